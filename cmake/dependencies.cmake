@@ -1,0 +1,16 @@
+# Third-party libraries, all from Debian 12 packages (scripts/install-deps.sh).
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(CLI11 REQUIRED)
+find_package(tomlplusplus REQUIRED)
+find_package(nlohmann_json 3.10 REQUIRED)
+find_package(tinyobjloader REQUIRED)
+find_package(embree 3 REQUIRED)
+find_package(OpenMP REQUIRED)
+find_package(Threads REQUIRED)
+
+# stb (stb_image_write, stb_easy_font): Debian ships the implementations as libstb.
+find_path(STB_INCLUDE_DIR stb/stb_image_write.h REQUIRED)
+find_library(STB_LIBRARY stb REQUIRED)
+add_library(woven_stb INTERFACE)
+target_include_directories(woven_stb INTERFACE ${STB_INCLUDE_DIR})
+target_link_libraries(woven_stb INTERFACE ${STB_LIBRARY})

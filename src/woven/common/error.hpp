@@ -1,0 +1,36 @@
+#pragma once
+// Project exceptions. Only the cli catches them: InputError -> exit 2, RuntimeError -> exit 1.
+#include <stdexcept>
+#include <string>
+
+namespace woven {
+
+/// Bad input: a malformed or inconsistent file, a value out of range, a bad option.
+/// The message is one line: "<source>: <field>: <what is expected>".
+class InputError : public std::runtime_error {
+public:
+    InputError(const std::string& source, const std::string& field, const std::string& expected)
+        : std::runtime_error(compose(source, field, expected)), source_(source), field_(field)
+    {
+    }
+    explicit InputError(const std::string& message) : std::runtime_error(message) { }
+    const std::string& source() const { return source_; }
+    const std::string& field() const { return field_; }
+
+private:
+    static std::string compose(const std::string& source, const std::string& field, const std::string& expected)
+    {
+        std::string m = source.empty() ? std::string() : source + ": ";
+        if (!field.empty()) m += field + ": ";
+        return m + expected;
+    }
+    std::string source_, field_;
+};
+
+/// A failure while running on valid input (I/O error, solver breakdown).
+class RuntimeError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+}  // namespace woven
