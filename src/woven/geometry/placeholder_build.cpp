@@ -1,0 +1,1 @@
+// Removed once the geometry module has sources.

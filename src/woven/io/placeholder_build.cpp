@@ -1,0 +1,1 @@
+// Removed once the sim module has sources.
