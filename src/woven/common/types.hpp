@@ -1,6 +1,7 @@
 #pragma once
 // Fixed-size Eigen aliases used across modules.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 namespace woven {

@@ -103,7 +103,14 @@ TrellisEnergy::TrellisEnergy(kes::CurveFit force, double sigma_m, units::GramFor
 double TrellisEnergy::integral(double phi) const
 {
     // F is fitted in degrees: F = c0 + c1 x + c2 x^2, x = k psi. In radians the coefficients are
-    // (c0, c1 k, c2 k^2); integral of (A + B psi + C psi^2) cos psi is exact.
+    // (c0, c1 k, c2 k^2). Each piece of integral_lo^hi (A + B psi + C psi^2) cos psi is summed by
+    // 8-point Gauss-Legendre, exact to rounding for these entire integrands on pieces up to the
+    // KES range (error bound ~1e-23 (hi - lo)^17 max|f^(16)|). Not the closed form through
+    // sin/cos primitives: its differences cancel (cos t - 1, t^2 sin t + 2 t cos t - 2 sin t),
+    // which lost all relative precision for phi below ~1e-7 rad (T(1e-8) came out 0) and made
+    // the trellis gradient fail finite-difference checks (tests/model/test_derivatives.cpp).
+    static constexpr double kNode[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+    static constexpr double kWeight[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
     const double k = units::kRadToDeg;
     double total = 0;
     for (const kes::Segment& s : force_.segments()) {
@@ -111,11 +118,11 @@ double TrellisEnergy::integral(double phi) const
         const double hi = std::min(s.x_end / k, phi);
         if (hi > lo) {
             const double A = s.c0, B = s.c1 * k, C = s.c2 * k * k;
-            auto prim = [&](double t) {
-                const double sn = std::sin(t), cs = std::cos(t);
-                return A * sn + B * (t * sn + cs) + C * (t * t * sn + 2.0 * t * cs - 2.0 * sn);
-            };
-            total += prim(hi) - prim(lo);
+            auto f = [&](double t) { return (A + t * (B + t * C)) * std::cos(t); };
+            const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+            double sum = 0;
+            for (int q = 0; q < 4; ++q) sum += kWeight[q] * (f(mid - half * kNode[q]) + f(mid + half * kNode[q]));
+            total += half * sum;
         }
         if (phi <= s.x_end / k) break;
     }

@@ -1,1 +1,0 @@
-// Removed once the geometry module has sources.

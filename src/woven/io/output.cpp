@@ -1,0 +1,140 @@
+#include "woven/io/output.hpp"
+
+#include <array>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <cmath>
+#include <cstdarg>
+#include <fstream>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "woven/common/error.hpp"
+
+namespace woven::io {
+
+namespace {
+
+/// printf-style formatting into a std::string (GCC 12 has no std::format).
+[[gnu::format(printf, 1, 2)]] std::string strf(const char* fmt, ...)
+{
+    va_list a, b;
+    va_start(a, fmt);
+    va_copy(b, a);
+    const int n = std::vsnprintf(nullptr, 0, fmt, a);
+    va_end(a);
+    std::string s(n > 0 ? n : 0, '\0');
+    if (n > 0) std::vsnprintf(s.data(), s.size() + 1, fmt, b);
+    va_end(b);
+    return s;
+}
+
+void check_grid(const Positions& x, int nu, int nv, const char* what)
+{
+    if (nu < 2 || nv < 2 || static_cast<long long>(nu) * nv != static_cast<long long>(x.size()))
+        throw InputError(what, "grid",
+                         strf("%zu positions do not form a %d x %d grid (need nu, nv >= 2)", x.size(), nu, nv));
+}
+
+/// The two triangles of every grid cell, in the order of the header comment.
+std::vector<std::array<int, 3>> grid_triangles(int nu, int nv)
+{
+    std::vector<std::array<int, 3>> t;
+    t.reserve(2 * static_cast<size_t>(nu - 1) * (nv - 1));
+    for (int j = 0; j + 1 < nv; ++j)
+        for (int i = 0; i + 1 < nu; ++i) {
+            const int a = i + nu * j, b = a + 1, c = a + 1 + nu, d = a + nu;
+            t.push_back({a, b, c});
+            t.push_back({a, c, d});
+        }
+    return t;
+}
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, std::string_view contents)
+{
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw RuntimeError(strf("%s: cannot write: %s", path.c_str(), std::strerror(errno)));
+        out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
+        out.close();
+        if (!out) {
+            std::remove(tmp.c_str());
+            throw RuntimeError(strf("%s: write failed: %s", path.c_str(), std::strerror(errno)));
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int e = errno;
+        std::remove(tmp.c_str());
+        throw RuntimeError(strf("%s: cannot rename %s into place: %s", path.c_str(), tmp.c_str(), std::strerror(e)));
+    }
+}
+
+Positions cloth_normals(const Positions& x, int nu, int nv)
+{
+    check_grid(x, nu, nv, "cloth normals");
+    Positions n(x.size(), Vec3::Zero());
+    for (const auto& t : grid_triangles(nu, nv)) {
+        // The cross product's length is twice the area: area weighting for free.
+        const Vec3 fn = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+        for (int k : t) n[k] += fn;
+    }
+    for (auto& v : n) {
+        const double len = v.norm();
+        v = (len > 0 && std::isfinite(len)) ? Vec3(v / len) : Vec3(0, 0, 1);
+    }
+    return n;
+}
+
+std::string cloth_obj(const Positions& x, int nu, int nv)
+{
+    check_grid(x, nu, nv, "cloth OBJ");
+    const Positions n = cloth_normals(x, nu, nv);
+    std::string s;
+    s.reserve(x.size() * 120);
+    s += "# woven cloth, units: m\n";
+    s += strf("# grid %d x %d particles (nu x nv), vertex index = i + nu * j + 1\n", nu, nv);
+    s += "# vt: u = i/(nu-1) along the weft, v = j/(nv-1) along the warp\n";
+    s += "o cloth\n";
+    for (const auto& p : x) s += strf("v %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i)
+            s += strf("vt %.9g %.9g\n", double(i) / (nu - 1), double(j) / (nv - 1));
+    for (const auto& v : n) s += strf("vn %.6f %.6f %.6f\n", v.x(), v.y(), v.z());
+    for (const auto& t : grid_triangles(nu, nv)) {
+        const int a = t[0] + 1, b = t[1] + 1, c = t[2] + 1;
+        s += strf("f %d/%d/%d %d/%d/%d %d/%d/%d\n", a, a, a, b, b, b, c, c, c);
+    }
+    return s;
+}
+
+std::string cloth_ply(const Positions& x, int nu, int nv)
+{
+    check_grid(x, nu, nv, "cloth PLY");
+    const Positions n = cloth_normals(x, nu, nv);
+    const auto tris = grid_triangles(nu, nv);
+    std::string s;
+    s.reserve(x.size() * 120);
+    s += "ply\nformat ascii 1.0\n";
+    s += "comment woven cloth, units: m\n";
+    s += strf("comment grid %d x %d particles (nu x nv), vertex index = i + nu * j\n", nu, nv);
+    s += "comment u = i/(nu-1) along the weft, v = j/(nv-1) along the warp\n";
+    s += strf("element vertex %zu\n", x.size());
+    for (const char* p : {"x", "y", "z", "nx", "ny", "nz", "u", "v"}) s += strf("property float %s\n", p);
+    s += strf("element face %zu\n", tris.size());
+    s += "property list uchar int vertex_indices\nend_header\n";
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const int k = i + nu * j;
+            s += strf("%.9g %.9g %.9g %.6f %.6f %.6f %.9g %.9g\n", x[k].x(), x[k].y(), x[k].z(),
+                             n[k].x(), n[k].y(), n[k].z(), double(i) / (nu - 1), double(j) / (nv - 1));
+        }
+    for (const auto& t : tris) s += strf("3 %d %d %d\n", t[0], t[1], t[2]);
+    return s;
+}
+
+}  // namespace woven::io

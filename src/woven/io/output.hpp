@@ -1,0 +1,37 @@
+#pragma once
+// Output writers: atomic file writes and the draped cloth as a mesh (OBJ, PLY).
+//
+// Grid convention (MODEL-NOTES, model/cloth_model.hpp): particle (i, j) has index i + nu * j;
+// weft threads run along i (u), warp threads along j (v). Each grid cell
+// (i, j)-(i+1, j)-(i+1, j+1)-(i, j+1) gives two triangles,
+//   (i, j) (i+1, j) (i+1, j+1)   and   (i, j) (i+1, j+1) (i, j+1),
+// counter-clockwise seen from +z for a flat grid laid out as model::flat_grid lays it out.
+#include <string>
+#include <string_view>
+
+#include "woven/common/types.hpp"
+
+namespace woven::io {
+
+/// Writes `contents` to `path` atomically: the data goes to "<path>.tmp", which is then renamed
+/// over `path` (no fsync). On any failure the temporary file is removed and RuntimeError is
+/// thrown; `path` is never left holding a partial file.
+void write_file_atomic(const std::string& path, std::string_view contents);
+
+/// Per-vertex unit normals of the cloth grid: the area-weighted sum of the normals of the
+/// triangles (see the header comment) around each particle. Degenerate neighbourhoods get +z.
+/// @param x  nu * nv positions (m), index i + nu * j
+Positions cloth_normals(const Positions& x, int nu, int nv);
+
+/// The cloth grid as Wavefront OBJ text: a header comment (units m, grid nu x nv), `v` lines
+/// (positions, m), `vt` lines (u = i / (nu - 1) along the weft, v = j / (nv - 1) along the warp),
+/// `vn` lines (cloth_normals) and two `f v/vt/vn` triangles per grid cell (1-based indices; the
+/// three arrays share particle order). Throws InputError if x.size() != nu * nv or nu, nv < 2.
+std::string cloth_obj(const Positions& x, int nu, int nv);
+
+/// The cloth grid as ASCII PLY 1.0: vertex properties x y z nx ny nz u v (float, m; u, v as in
+/// cloth_obj) and `3 a b c` triangle faces (0-based), the same triangles as cloth_obj. Comments
+/// give the units and the grid. Throws InputError if x.size() != nu * nv or nu, nv < 2.
+std::string cloth_ply(const Positions& x, int nu, int nv);
+
+}  // namespace woven::io

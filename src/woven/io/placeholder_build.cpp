@@ -1,1 +1,0 @@
-// Removed once the sim module has sources.

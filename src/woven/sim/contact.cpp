@@ -1,0 +1,69 @@
+#include "woven/sim/contact.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace woven::sim {
+
+double Barrier::value(double d) const
+{
+    if (d <= 0) return std::numeric_limits<double>::infinity();
+    if (d >= d_hat) return 0;
+    const double e = d - d_hat;
+    return -kappa * e * e * std::log(d / d_hat);
+}
+
+double Barrier::d1(double d) const
+{
+    if (d >= d_hat || d <= 0) return 0;
+    const double e = d - d_hat;
+    return -kappa * (2.0 * e * std::log(d / d_hat) + e * e / d);
+}
+
+double Barrier::d2(double d) const
+{
+    if (d >= d_hat || d <= 0) return 0;
+    const double e = d - d_hat;
+    return -kappa * (2.0 * std::log(d / d_hat) + 4.0 * e / d - e * e / (d * d));
+}
+
+std::vector<Contact> find_contacts(const geometry::ObstacleSet& obstacles, const Positions& x, double d_hat)
+{
+    std::vector<Contact> contacts;
+    for (size_t o = 0; o < obstacles.size(); ++o) {
+        const geometry::Obstacle& ob = obstacles[o];
+        for (size_t i = 0; i < x.size(); ++i) {
+            if (ob.distance(x[i]) >= d_hat) continue;
+            const geometry::ClosestPoint c = ob.closest(x[i]);
+            contacts.push_back({static_cast<int>(i), c.distance, c.normal});
+        }
+    }
+    return contacts;
+}
+
+double min_obstacle_distance(const geometry::ObstacleSet& obstacles, const Positions& x)
+{
+    double d = std::numeric_limits<double>::infinity();
+    for (size_t o = 0; o < obstacles.size(); ++o)
+        for (const Vec3& p : x) d = std::min(d, obstacles[o].distance(p));
+    return d;
+}
+
+double collision_free_fraction(const geometry::ObstacleSet& obstacles, const Positions& x, const Positions& dx, double safety)
+{
+    double alpha = 1.0;
+    for (size_t o = 0; o < obstacles.size(); ++o) {
+        const geometry::Obstacle& ob = obstacles[o];
+        for (size_t i = 0; i < x.size(); ++i) {
+            const double len = dx[i].norm();
+            if (len == 0) continue;
+            // Cheap rejection: a move shorter than the distance cannot reach the surface.
+            const double d = ob.distance(x[i]);
+            if (len * alpha < d) continue;
+            if (auto t = ob.first_contact(x[i], x[i] + alpha * dx[i])) alpha *= safety * *t;
+        }
+    }
+    return alpha;
+}
+
+}  // namespace woven::sim

@@ -1,0 +1,67 @@
+#include "woven/sim/drape.hpp"
+
+#include <cmath>
+
+#include <omp.h>
+
+#include "woven/common/error.hpp"
+#include "woven/sim/solvers.hpp"
+
+namespace woven::sim {
+
+namespace detail {
+
+std::vector<char> pinned_mask(const Problem& problem)
+{
+    std::vector<char> mask(problem.initial.size(), 0);
+    for (int p : problem.pinned) mask.at(p) = 1;
+    return mask;
+}
+
+double max_distance(const Positions& x, const Positions& y)
+{
+    double m = 0;
+    for (size_t i = 0; i < x.size(); ++i) m = std::max(m, (x[i] - y[i]).norm());
+    return m;
+}
+
+}  // namespace detail
+
+double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
+                             const std::vector<int>& pinned, double contact_distance)
+{
+    const Eigen::VectorXd g = model.gradient(x);
+    std::vector<Vec3, Eigen::aligned_allocator<Vec3>> force(x.size());
+    for (size_t i = 0; i < x.size(); ++i) force[i] = -g.segment<3>(3 * i);
+    // An obstacle can push: a particle within the contact distance carries any outward normal
+    // reaction, so the inward normal part of its force is not a residual (no friction).
+    for (size_t o = 0; o < obstacles.size(); ++o)
+        for (size_t i = 0; i < x.size(); ++i) {
+            if (obstacles[o].distance(x[i]) >= contact_distance) continue;
+            const Vec3 n = obstacles[o].closest(x[i]).normal;
+            const double fn = force[i].dot(n);
+            if (fn < 0) force[i] -= fn * n;
+        }
+    std::vector<char> is_pinned(x.size(), 0);
+    for (int p : pinned) is_pinned.at(p) = 1;
+    const double weight = model.particle_mass() * model.gravity();
+    double r = 0;
+    for (size_t i = 0; i < x.size(); ++i)
+        if (!is_pinned[i]) r = std::max(r, force[i].norm() / weight);
+    return r;
+}
+
+Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress)
+{
+    if (!problem.model || !problem.obstacles) throw InputError("", "problem", "needs a model and an obstacle set");
+    if (static_cast<int>(problem.initial.size()) != problem.model->grid().size())
+        throw InputError("", "initial", "needs one position per particle");
+    for (const Vec3& p : problem.initial)
+        if (!p.allFinite()) throw InputError("", "initial", "positions must be finite");
+    for (int p : problem.pinned)
+        if (p < 0 || p >= problem.model->grid().size()) throw InputError("", "pinned", "particle index out of range");
+    if (options.threads > 0) omp_set_num_threads(options.threads);
+    return options.kind == SolverKind::FAST ? detail::fast_drape(problem, options, progress) : detail::paper_drape(problem, options, progress);
+}
+
+}  // namespace woven::sim

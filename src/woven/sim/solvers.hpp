@@ -1,0 +1,15 @@
+#pragma once
+// Internal: the two solvers behind sim::drape, and helpers they share.
+#include "woven/sim/drape.hpp"
+
+namespace woven::sim::detail {
+
+Result fast_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress);
+Result paper_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress);
+
+/// Pinned particles as a mask.
+std::vector<char> pinned_mask(const Problem& problem);
+/// Largest |x_i - y_i| (m).
+double max_distance(const Positions& x, const Positions& y);
+
+}  // namespace woven::sim::detail
