@@ -25,6 +25,14 @@ inline kes::FabricData cotton_like()
     return f;
 }
 
+/// The same fabric with equal warp and weft bending (a 4-fold symmetric cloth).
+inline kes::FabricData balanced()
+{
+    kes::FabricData f = cotton_like();
+    f.bending_weft = f.bending_warp;
+    return f;
+}
+
 /// An n x n grid of side `size` (m).
 inline model::Grid square_grid(int n, double size) { return model::Grid{n, n, size / (n - 1)}; }
 

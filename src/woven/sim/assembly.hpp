@@ -3,6 +3,8 @@
 // a sparse matrix with the fixed pattern of the grid stencils (so the symbolic factorisation is
 // done once), or just the 3x3 diagonal blocks (the paper solver's per-particle steps).
 #include <array>
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Sparse>
@@ -12,13 +14,13 @@
 namespace woven::sim {
 
 /// Gradient and Hessian in a fixed sparsity pattern: each particle is coupled to the 12 grid
-/// neighbours that share a stencil with it ((0,+-1), (+-1,0), (0,+-2), (+-2,0), (+-1,+-1)).
-/// Couplings outside the pattern (repulsion between particles far apart on the grid, i.e. self
-/// contact) keep only their diagonal blocks. Pinned particles get identity rows and zero
-/// gradient, so a Newton step leaves them in place.
+/// neighbours that share a stencil with it ((0,+-1), (+-1,0), (0,+-2), (+-2,0), (+-1,+-1)),
+/// plus given extra pairs (repulsion between particles far apart on the grid: self contact).
+/// A coupling outside the pattern keeps only its diagonal blocks. Pinned particles get identity
+/// rows and zero gradient, so a Newton step leaves them in place.
 class SparseAssembly : public model::StencilSink {
 public:
-    SparseAssembly(const model::Grid& grid, const std::vector<char>& pinned);
+    SparseAssembly(const model::Grid& grid, const std::vector<char>& pinned, const std::vector<std::pair<int, int>>& extra_pairs = {});
 
     /// Zeroes gradient and matrix values.
     void clear();
@@ -39,6 +41,9 @@ private:
     Eigen::VectorXd gradient_;
     /// For particle p and neighbour slot k: position in valuePtr() of row 3p in column 3q+b.
     std::vector<std::array<int, 3>> block_positions_;
+    /// Extra pairs (p, q) in both orders -> positions as above.
+    std::unordered_map<std::int64_t, std::array<int, 3>> extra_positions_;
+    const std::array<int, 3>* block(int p, int q) const;
 };
 
 /// Gradient and 3x3 diagonal blocks of the Hessian only.

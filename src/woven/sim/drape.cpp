@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include "woven/common/error.hpp"
+#include "woven/common/units.hpp"
 #include "woven/sim/solvers.hpp"
 
 namespace woven::sim {
@@ -18,14 +19,14 @@ std::vector<char> pinned_mask(const Problem& problem)
     return mask;
 }
 
-double max_distance(const Positions& x, const Positions& y)
+}  // namespace detail
+
+double max_displacement(const Positions& x, const Positions& y)
 {
     double m = 0;
     for (size_t i = 0; i < x.size(); ++i) m = std::max(m, (x[i] - y[i]).norm());
     return m;
 }
-
-}  // namespace detail
 
 double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
                              const std::vector<int>& pinned, double contact_distance)
@@ -44,7 +45,8 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
         }
     std::vector<char> is_pinned(x.size(), 0);
     for (int p : pinned) is_pinned.at(p) = 1;
-    const double weight = model.particle_mass() * model.gravity();
+    // Without gravity the residual is measured against the particle's weight in standard gravity.
+    const double weight = model.particle_mass() * (model.gravity() > 0 ? model.gravity() : units::kStandardGravity);
     double r = 0;
     for (size_t i = 0; i < x.size(); ++i)
         if (!is_pinned[i]) r = std::max(r, force[i].norm() / weight);

@@ -54,7 +54,8 @@ using ProgressCallback = std::function<bool(const StepInfo&)>;
 /// Equilibrium measures of a state (MODEL-NOTES/issue: two numbers).
 struct Equilibrium {
     double max_move = 0;          ///< m, over the last step
-    double max_residual_rel = 0;  ///< largest |F_i| / (m g) over free particles; obstacles may push (a particle
+    double max_residual_rel = 0;  ///< largest |F_i| / (m g) over free particles (g: standard gravity when the
+                                  ///< model has none); obstacles may push (a particle
                                   ///< within the contact distance may carry any outward normal reaction)
 };
 
@@ -72,6 +73,9 @@ struct Result {
 
 /// Runs the chosen solver to equilibrium (or max_steps, or until the callback says stop).
 Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress = {});
+
+/// Largest |x_i - y_i| over particles (m).
+double max_displacement(const Positions& x, const Positions& y);
 
 /// Largest residual force on a free particle relative to its weight (see Equilibrium).
 double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,

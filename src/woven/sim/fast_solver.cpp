@@ -7,8 +7,6 @@
 // cloth first falls and swings (a physical path) and then settles; the run ends when the
 // largest residual force on a free particle is below the tolerance times its weight.
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 
@@ -17,6 +15,7 @@
 #include <Eigen/Cholesky>
 
 #include "woven/common/error.hpp"
+#include "woven/common/units.hpp"
 #include "woven/sim/assembly.hpp"
 #include "woven/sim/contact.hpp"
 #include "woven/sim/solvers.hpp"
@@ -39,7 +38,7 @@ struct FastSolver {
         : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem))
     {
         mass = model.particle_mass();
-        weight = mass * model.gravity();
+        weight = mass * (model.gravity() > 0 ? model.gravity() : units::kStandardGravity);
         // A particle's weight is held at about 0.7 d^ above a surface; an edge carrying a
         // hanging flap comes closer but never touches.
         barrier = Barrier{options.contact_distance, 10.0 * weight / options.contact_distance};
@@ -63,7 +62,7 @@ struct FastSolver {
     void assemble(SparseAssembly& system, const Positions& x, const Positions& x_tilde, double inv_h2) const
     {
         system.clear();
-        model.evaluate(x, std::getenv("WOVEN_EXACT") ? model::Derivatives::HESSIAN : model::Derivatives::PROJECTED, &system);
+        model.evaluate(x, model::Derivatives::PROJECTED, &system);
         const Mat3 inertia = mass * inv_h2 * Mat3::Identity();
         for (size_t i = 0; i < x.size(); ++i) system.add_particle(static_cast<int>(i), inertia, mass * inv_h2 * (x[i] - x_tilde[i]));
         for (const Contact& c : find_contacts(obstacles, x, barrier.d_hat))
@@ -71,6 +70,19 @@ struct FastSolver {
         system.finish();
     }
 };
+
+/// Repulsion pairs whose particles are not grid neighbours sharing a stencil (self contact).
+std::vector<std::pair<int, int>> off_pattern_pairs(const model::ClothModel& model, const Positions& x)
+{
+    std::vector<std::pair<int, int>> out;
+    const int nu = model.grid().nu;
+    for (const auto& [p, q] : model.close_pairs(x)) {
+        const int di = std::abs(p % nu - q % nu), dj = std::abs(p / nu - q / nu);
+        const bool in_pattern = di + dj <= 2;  // the offsets of SparseAssembly
+        if (!in_pattern) out.emplace_back(p, q);
+    }
+    return out;
+}
 
 }  // namespace
 
@@ -84,6 +96,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
     const int max_steps = options.max_steps > 0 ? options.max_steps : 400;
     constexpr int kMaxNewton = 40;
     constexpr double kMaxStep = 20.0;       // s: the largest time step, effectively static
+    constexpr double kStaticStep = 1.0;     // s: from here on steps are solved to the final tolerance
     constexpr double kDamping = 2.0;        // 1/s: viscous medium (as the paper's free fall)
 
     Result result;
@@ -91,6 +104,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
     SparseAssembly system(model.grid(), solver.pinned);
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
     ldlt.analyzePattern(system.matrix());
+    std::vector<std::pair<int, int>> extra_pairs;
 
     double h = options.time_step;
     for (int step = 1; step <= max_steps; ++step) {
@@ -101,11 +115,21 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         int iterations = 0;
         bool newton_converged = false;
         for (; iterations < kMaxNewton; ++iterations) {
+            // Self contact: pairs closer than sigma that the grid pattern does not couple get
+            // their own blocks (a changed set means a new symbolic factorisation).
+            std::vector<std::pair<int, int>> extra = off_pattern_pairs(model, x);
+            if (extra != extra_pairs) {
+                extra_pairs = std::move(extra);
+                system = SparseAssembly(model.grid(), solver.pinned, extra_pairs);
+                ldlt.analyzePattern(system.matrix());
+            }
             solver.assemble(system, x, x_tilde, inv_h2);
             const Eigen::VectorXd& g = system.gradient();
             double g_max = 0;
             for (int i = 0; i < n; ++i) g_max = std::max(g_max, g.segment<3>(3 * i).norm());
-            if (g_max < 0.1 * options.residual_tolerance * solver.weight) {
+            // Dynamic steps need less accuracy than the final static solve.
+            const double newton_tolerance = h < kStaticStep ? std::max(0.1 * options.residual_tolerance, 1e-2) : 0.1 * options.residual_tolerance;
+            if (g_max < newton_tolerance * solver.weight) {
                 newton_converged = true;
                 break;
             }
@@ -124,9 +148,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             // Trust region (no particle moves more than sigma per iteration), then the
             // collision-free fraction, then backtracking (Armijo) on Phi.
             double alpha = std::min(1.0, sigma / step_max);
-            for (int i = 0; i < n; ++i) trial[i] = 8.0 * dx[i];
-            const double alpha_limit = std::min(sigma / step_max, 8.0 * collision_free_fraction(solver.obstacles, x, trial));
-            alpha = std::min(alpha, alpha_limit);
+            alpha = std::min(alpha, collision_free_fraction(solver.obstacles, x, dx));
             const double slope = g.dot(delta);
             bool accepted = false;
             for (int ls = 0; ls < 40 && alpha > 1e-12; ++ls, alpha *= 0.5) {
@@ -136,31 +158,16 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
                     x.swap(trial);
                     phi = phi_trial;
                     accepted = true;
-                    // The paper's R and S are quintic about sigma, where Newton alone converges
-                    // linearly (ratio 3/4 for x^5): extend a full step while Phi keeps falling.
-                    if (alpha == 1.0 && std::getenv("WOVEN_EXT")) {
-                        double a_prev = 1.0;
-                        for (double a = 2.0; a <= 8.0 && a <= alpha_limit; a *= 2.0) {
-                            for (int i = 0; i < n; ++i) trial[i] = x[i] + (a - a_prev) * dx[i];
-                            const double phi_ext = solver.incremental_potential(trial, x_tilde, inv_h2);
-                            if (!(phi_ext < phi)) break;
-                            x.swap(trial);
-                            phi = phi_ext;
-                            a_prev = a;
-                        }
-                    }
                     break;
                 }
             }
-            if (std::getenv("WOVEN_DEBUG2")) std::fprintf(stderr, "    it %d gmax/mg=%.3e step_max=%.3e alpha=%.3e acc=%d\n", iterations, g_max / solver.weight, step_max, alpha, accepted);
             if (!accepted) break;  // no descent left at round-off level
         }
         result.iterations += iterations;
-        if (std::getenv("WOVEN_DEBUG")) std::fprintf(stderr, "  h=%.4g newton=%d conv=%d\n", h, iterations, newton_converged);
         for (int i = 0; i < n; ++i) v[i] = solver.pinned[i] ? Vec3::Zero() : Vec3((x[i] - x_prev[i]) / h / (1.0 + kDamping * h));
         result.simulated_time += h;
         result.steps = step;
-        result.equilibrium.max_move = max_distance(x, x_prev);
+        result.equilibrium.max_move = max_displacement(x, x_prev);
         result.equilibrium.max_residual_rel = max_residual_relative(model, solver.obstacles, x, problem.pinned, options.contact_distance);
         const bool at_rest = result.equilibrium.max_residual_rel < options.residual_tolerance;
         if (progress) {
@@ -175,7 +182,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             break;
         }
         // Grow the step while Newton converges easily; shrink it when it struggles.
-        if (newton_converged && iterations <= 8) h = std::min(2.0 * h, kMaxStep);
+        if (newton_converged && iterations <= 15) h = std::min(2.0 * h, kMaxStep);
         else if (!newton_converged) h = std::max(0.5 * h, 1e-4);
     }
     result.x = std::move(x);

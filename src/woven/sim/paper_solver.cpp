@@ -63,7 +63,8 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
     const double inertia = mass / (dt * dt);
     const double clearance = 0.5 * options.contact_distance;
     const int max_steps = options.max_steps > 0 ? options.max_steps : 200000;
-    constexpr int kSweeps = 4;
+    constexpr int kMaxSweeps = 60;     // phase 2 stops earlier when a sweep moves no particle by more than kSweepTolerance
+    const double kSweepTolerance = 0.02 * options.move_tolerance;
     constexpr double kNoise = 0.1;       // random perturbation relative to each particle's move
     constexpr int kCalmSteps = 10;       // equilibrium: movement below threshold this many steps in a row
 
@@ -100,7 +101,8 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
         // Phase 2: stochastic minimisation of the inter-particle energy.
         Positions x2 = x1;
         double phi = phase2_energy(x2);
-        for (int sweep = 0; sweep < kSweeps; ++sweep) {
+        int sweeps = 0;
+        for (int sweep = 0; sweep < kMaxSweeps; ++sweep, ++sweeps) {
             diag.clear();
             model.evaluate(x2, model::Derivatives::PROJECTED, &diag);
             for (int i = 0; i < n; ++i) {
@@ -115,6 +117,7 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
                 dx[i] += kNoise * len * Vec3(normal(rng), normal(rng), normal(rng));
             }
             bool accepted = false;
+            double sweep_move = 0;
             for (double alpha = 1.0; alpha > 1e-3; alpha *= 0.5) {
                 trial = x2;
                 Positions step_dx(n);
@@ -122,22 +125,23 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
                 move_with_collisions(obstacles, trial, step_dx, clearance, nullptr);
                 const double phi_trial = phase2_energy(trial);
                 if (phi_trial < phi) {
+                    sweep_move = max_displacement(trial, x2);
                     x2.swap(trial);
                     phi = phi_trial;
                     accepted = true;
                     break;
                 }
             }
-            if (!accepted) break;
+            if (!accepted || sweep_move < kSweepTolerance) break;
         }
         // Phase 3: velocity correction for the motion of phase 2.
         for (int i = 0; i < n; ++i) v[i] = pinned[i] ? Vec3::Zero() : Vec3(v[i] + (x2[i] - x1[i]) / dt);
         x.swap(x2);
 
         result.steps = step;
-        result.iterations += kSweeps;
+        result.iterations += sweeps;
         result.simulated_time += dt;
-        result.equilibrium.max_move = max_distance(x, x_prev);
+        result.equilibrium.max_move = max_displacement(x, x_prev);
         calm = result.equilibrium.max_move < options.move_tolerance ? calm + 1 : 0;
         const bool report = progress && (step % 50 == 0 || calm >= kCalmSteps);
         if (report || calm >= kCalmSteps)

@@ -9,7 +9,5 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
 
 /// Pinned particles as a mask.
 std::vector<char> pinned_mask(const Problem& problem);
-/// Largest |x_i - y_i| (m).
-double max_distance(const Positions& x, const Positions& y);
 
 }  // namespace woven::sim::detail

@@ -1,0 +1,175 @@
+// Drape solvers: rest states, symmetry, contact, reproducibility, agreement of the two solvers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/sim_fixtures.hpp"
+#include "woven/common/error.hpp"
+#include "woven/sim/contact.hpp"
+
+namespace woven {
+namespace {
+
+using geometry::ObstacleSet;
+
+sim::Result run(const model::ClothModel& m, const ObstacleSet& obstacles, const Positions& start, const std::vector<int>& pinned, const sim::SolverOptions& o)
+{
+    sim::Problem problem{&m, &obstacles, start, pinned};
+    return sim::drape(problem, o);
+}
+
+TEST(FastSolver, FreeSheetWithoutGravityStaysFlatAndAtRest)
+{
+    const model::Grid grid = test::square_grid(9, 0.4);
+    model::ModelOptions mo;
+    mo.gravity = 0.0;
+    mo.C0 = 1000.0;  // the automatic C0 scales with gravity
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, mo);
+    const ObstacleSet none;
+    const Positions start = model::flat_grid(grid, Vec3(0, 0, 1));
+    const sim::Result r = run(m, none, start, {}, {});
+    EXPECT_TRUE(r.converged);
+    EXPECT_LT(sim::max_displacement(r.x, start), 1e-12);
+    EXPECT_NEAR(r.energy.total(), 0.0, 1e-15);
+}
+
+TEST(FastSolver, SheetPinnedAtTwoCornersHangsSymmetrically)
+{
+    const model::Grid grid = test::square_grid(9, 0.4);
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    const ObstacleSet none;
+    const Positions start = model::flat_grid(grid, Vec3(0, 0, 1));
+    const std::vector<int> pinned{grid.index(0, 8), grid.index(8, 8)};
+    const sim::Result r = run(m, none, start, pinned, {});
+    ASSERT_TRUE(r.converged);
+    EXPECT_LT(r.equilibrium.max_residual_rel, 1e-3);
+    // Mirror i -> 8 - i: x flips sign, y and z agree (tolerance 1e-6 m, far below sigma = 5 cm).
+    for (int j = 0; j < 9; ++j)
+        for (int i = 0; i < 9; ++i) {
+            const Vec3& a = r.x[grid.index(i, j)];
+            const Vec3& b = r.x[grid.index(8 - i, j)];
+            EXPECT_NEAR(a.x(), -b.x(), 1e-6);
+            EXPECT_NEAR(a.y(), b.y(), 1e-6);
+            EXPECT_NEAR(a.z(), b.z(), 1e-6);
+        }
+    // It hangs: the free far edge is well below the pinned edge.
+    EXPECT_LT(r.x[grid.index(4, 0)].z(), 1.0 - 0.2);
+    EXPECT_LT(r.energy.total(), m.energy(start));
+}
+
+TEST(FastSolver, DrapeOverCentredSphereHasFourFoldSymmetryAndNoPenetration)
+{
+    const int n = 9;
+    const model::Grid grid = test::square_grid(n, 0.3);
+    const model::ClothModel m = model::make_cloth_model(test::balanced(), grid, {});
+    ObstacleSet obstacles;
+    obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ()));
+    obstacles.add(std::make_unique<geometry::Sphere>(Vec3(0, 0, 0.15), 0.15));
+    const Positions start = model::flat_grid(grid, Vec3(0, 0, 0.31));
+    sim::SolverOptions o;
+    // The model has no friction (nor has the paper's): a cloth balanced on a sphere is an
+    // unstable equilibrium, so the centre particle is held over the pole.
+    const sim::Result r = run(m, obstacles, start, {grid.index(n / 2, n / 2)}, o);
+    ASSERT_TRUE(r.converged);
+    EXPECT_LT(r.equilibrium.max_residual_rel, o.residual_tolerance);
+    EXPECT_LT(r.energy.total(), m.energy(start));
+    // No particle inside an obstacle by more than 0.1 mm.
+    EXPECT_GT(sim::min_obstacle_distance(obstacles, r.x), -1e-4);
+    // Rotation by 90 degrees about z maps particle (i, j) to (n-1-j, i).
+    double worst = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const Vec3& a = r.x[grid.index(i, j)];
+            const Vec3& b = r.x[grid.index(n - 1 - j, i)];
+            worst = std::max(worst, (Vec3(-a.y(), a.x(), a.z()) - b).norm());
+        }
+    EXPECT_LT(worst, 1e-4) << "largest asymmetry (m)";
+}
+
+TEST(FastSolver, CubeDrapeRestsOnTheCubeWithoutPenetration)
+{
+    const model::Grid grid = test::square_grid(11, 1.0);
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    ObstacleSet obstacles;
+    obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ()));
+    obstacles.add(std::make_unique<geometry::Box>(Vec3(0, 0, 0.25), Vec3(0.25, 0.25, 0.25)));
+    const Positions start = model::flat_grid(grid, Vec3(0, 0, 0.51));
+    const sim::Result r = run(m, obstacles, start, {}, {});
+    ASSERT_TRUE(r.converged);
+    EXPECT_GT(sim::min_obstacle_distance(obstacles, r.x), -1e-4);
+    EXPECT_LT(r.energy.total(), m.energy(start));
+    // The centre rests on the top face (within the contact distance), the corners hang.
+    EXPECT_NEAR(r.x[grid.index(5, 5)].z(), 0.5, 1.5e-3);
+    EXPECT_LT(r.x[grid.index(0, 0)].z(), 0.45);
+}
+
+TEST(PaperSolver, SameSeedSameResultDifferentSeedDifferent)
+{
+    const model::Grid grid = test::square_grid(7, 0.3);
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    ObstacleSet obstacles;
+    obstacles.add(std::make_unique<geometry::Sphere>(Vec3(0, 0, 0.1), 0.1));
+    const Positions start = model::flat_grid(grid, Vec3(0, 0, 0.21));
+    sim::SolverOptions o;
+    o.kind = sim::SolverKind::PAPER;
+    o.time_step = 0.005;
+    o.max_steps = 60;
+    o.seed = 7;
+    const sim::Result a = run(m, obstacles, start, {}, o);
+    const sim::Result b = run(m, obstacles, start, {}, o);
+    o.seed = 8;
+    const sim::Result c = run(m, obstacles, start, {}, o);
+    ASSERT_EQ(a.x.size(), b.x.size());
+    for (size_t i = 0; i < a.x.size(); ++i) EXPECT_EQ(a.x[i], b.x[i]) << "particle " << i;
+    EXPECT_GT(sim::max_displacement(a.x, c.x), 0.0);
+}
+
+TEST(PaperSolver, PinnedSheetReachesTheFastSolversEquilibrium)
+{
+    const model::Grid grid = test::square_grid(5, 0.2);
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    const ObstacleSet none;
+    const Positions start = model::flat_grid(grid, Vec3(0, 0, 1));
+    const std::vector<int> pinned{grid.index(0, 4), grid.index(4, 4)};
+    const sim::Result fast = run(m, none, start, pinned, {});
+    sim::SolverOptions o;
+    o.kind = sim::SolverKind::PAPER;
+    o.time_step = 0.005;
+    o.max_steps = 20000;
+    const sim::Result paper = run(m, none, start, pinned, o);
+    ASSERT_TRUE(fast.converged);
+    ASSERT_TRUE(paper.converged);
+    // Tolerance: 2 % of the energy released by the drape (the paper solver's equilibrium test is
+    // a movement threshold, not a force balance).
+    const double released = m.energy(start) - fast.energy.total();
+    EXPECT_NEAR(paper.energy.total(), fast.energy.total(), 0.02 * released);
+}
+
+TEST(Drape, RejectsInconsistentProblems)
+{
+    const model::Grid grid = test::square_grid(5, 0.2);
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    const ObstacleSet none;
+    Positions start = model::flat_grid(grid, Vec3(0, 0, 1));
+    start[3].x() = std::nan("");
+    EXPECT_THROW(run(m, none, start, {}, {}), InputError);
+    start = model::flat_grid(grid, Vec3(0, 0, 1));
+    EXPECT_THROW(run(m, none, start, {99}, {}), InputError);
+    start.pop_back();
+    EXPECT_THROW(run(m, none, start, {}, {}), InputError);
+}
+
+TEST(Contact, BarrierIsSmoothAtTheActivationDistanceAndInfiniteAtContact)
+{
+    const sim::Barrier b{1e-3, 2.0};
+    EXPECT_EQ(b.value(1e-3), 0.0);
+    EXPECT_NEAR(b.d1(1e-3 * (1 - 1e-9)), 0.0, 1e-9);
+    EXPECT_TRUE(std::isinf(b.value(0.0)));
+    const double d = 4e-4, h = 1e-9;
+    EXPECT_NEAR(b.d1(d), (b.value(d + h) - b.value(d - h)) / (2 * h), 1e-6 * std::abs(b.d1(d)));
+    EXPECT_NEAR(b.d2(d), (b.d1(d + h) - b.d1(d - h)) / (2 * h), 1e-5 * std::abs(b.d2(d)));
+    EXPECT_LT(b.d1(d), 0.0);
+}
+
+}  // namespace
+}  // namespace woven
