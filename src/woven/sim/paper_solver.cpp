@@ -113,8 +113,10 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
                 const Vec3 grad = diag.gradient[i] - Vec3(0, 0, mass * g) + inertia * (x2[i] - x1[i]);
                 const Mat3 H = diag.diagonal[i] + inertia * Mat3::Identity();
                 dx[i] = -H.ldlt().solve(grad);
-                const double len = dx[i].norm();
-                dx[i] += kNoise * len * Vec3(normal(rng), normal(rng), normal(rng));
+                if (sweep == 0) {  // the random perturbation; later sweeps settle it
+                    const double len = dx[i].norm();
+                    dx[i] += kNoise * len * Vec3(normal(rng), normal(rng), normal(rng));
+                }
             }
             bool accepted = false;
             double sweep_move = 0;
