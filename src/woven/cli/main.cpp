@@ -1,2 +1,86 @@
+// woven: drape of woven cloth from Kawabata (KES) measurements (Breen, House & Wozny 1994).
+// Only this file catches exceptions: one line "woven: error: <what>" on stderr, then
+//   0 ok, 1 runtime failure, 2 bad usage or bad input, 130 interrupted (Ctrl-C; outputs written).
+#include <exception>
+#include <filesystem>
 #include <iostream>
-int main() { std::cout << "woven " << WOVEN_VERSION << "\n"; }
+
+#include <CLI/CLI.hpp>
+
+#include "woven/cli/commands.hpp"
+#include "woven/common/error.hpp"
+
+namespace woven::cli {
+
+void print_warnings(const std::vector<std::string>& warnings)
+{
+    for (const auto& w : warnings) std::cerr << "woven: warning: " << w << "\n";
+}
+
+void make_output_dir(const std::string& dir)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(dir, ec)) return;
+    if (fs::exists(dir, ec)) throw RuntimeError("cannot create output directory " + dir + ": exists and is not a directory");
+    fs::create_directories(dir, ec);
+    if (ec) throw RuntimeError("cannot create output directory " + dir + ": " + ec.message());
+}
+
+std::string join_path(const std::string& dir, const std::string& name)
+{
+    return (std::filesystem::path(dir) / name).string();
+}
+
+}  // namespace woven::cli
+
+int main(int argc, char** argv)
+{
+    using namespace woven::cli;
+    CLI::App app{"woven: drape of woven cloth from Kawabata (KES) measurements, after Breen, House & Wozny, "
+                 "SIGGRAPH '94.\nExit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 130 interrupted (Ctrl-C).",
+                 "woven"};
+    app.set_version_flag("--version", std::string("woven ") + WOVEN_VERSION, "Print the version and exit");
+    app.require_subcommand(1, 1);
+    app.fallthrough(false);
+
+    int exit_code = kExitOk;
+    add_fabrics_command(app, exit_code);
+    add_scenes_command(app, exit_code);
+    add_fit_command(app, exit_code);
+    add_drape_command(app, exit_code);
+
+    try {
+        // CLI11 reports a mistyped command as "A subcommand is required"; name it instead.
+        std::string names;
+        bool known = false;
+        for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+            known = known || (argc > 1 && sub->get_name() == argv[1]);
+        }
+        if (argc > 1 && argv[1][0] != '-' && !known) {
+            std::cerr << "woven: error: unknown command '" << argv[1] << "' (commands: " << names << ")\n";
+            return kExitUsage;
+        }
+        app.parse(argc, argv);
+        return exit_code;
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "woven: error: " << e.what() << " (see woven --help)\n";
+        return kExitUsage;
+    } catch (const woven::InputError& e) {
+        std::cerr << "woven: error: " << e.what() << "\n";
+        return kExitUsage;
+    } catch (const std::exception& e) {
+        std::cerr << "woven: error: " << e.what() << "\n";
+        return kExitFailure;
+    } catch (...) {
+        std::cerr << "woven: error: unknown failure\n";
+        return kExitFailure;
+    }
+}

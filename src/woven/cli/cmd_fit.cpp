@@ -1,0 +1,239 @@
+// woven fit FABRIC: the paper's Sec. 5.1 fit of a fabric's KES curves, and the bending and
+// trellis energy functions built from them (Sec. 5.2-5.4), as plots, CSV tables and text.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "woven/cli/commands.hpp"
+#include "woven/cli/report.hpp"
+#include "woven/common/error.hpp"
+#include "woven/io/fabric_file.hpp"
+#include "woven/io/output.hpp"
+#include "woven/model/cloth_model.hpp"
+#include "woven/model/curvature.hpp"
+#include "woven/render/plot.hpp"
+
+namespace woven::cli {
+
+namespace {
+
+std::string g(double v, int digits = 6)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+}
+
+/// One KES curve and its fit, with the units and names used in plots and text.
+struct CurveView {
+    std::string key;      ///< file prefix: bending_warp, bending_weft, shear
+    std::string title;    ///< human name
+    const kes::Curve* data;
+    const kes::CurveFit* fit;
+    std::string x_label, y_label;  ///< with units
+    std::string x_unit, y_unit;
+    std::string rigidity_name, rigidity_unit;  ///< B or G
+    double rigidity = 0;
+};
+
+struct Output {
+    std::string name;
+    std::string contents;                 ///< CSV text, or empty for a PNG
+    std::optional<render::Image> image;   ///< PNG
+};
+
+render::Image fit_plot(const CurveView& c)
+{
+    render::Plot p;
+    p.title = c.title + " (" + c.key + "): KES first-stage curve and fit";
+    p.x_label = c.x_label;
+    p.y_label = c.y_label;
+    render::Series data;
+    data.x = c.data->x;
+    data.y = c.data->y;
+    data.style = render::Series::Style::POINTS;
+    data.color = Vec3(0.2, 0.2, 0.2);
+    data.label = "KES data";
+    render::Series fit;
+    const double x_hi = std::max(c.fit->data_max_x(), c.data->x.empty() ? 0.0 : c.data->x.back());
+    const int n = 400;
+    for (int k = 0; k <= n; ++k) {
+        const double x = x_hi * k / n;
+        fit.x.push_back(x);
+        fit.y.push_back(c.fit->value(x));
+    }
+    fit.color = Vec3(0.12, 0.47, 0.71);
+    fit.label = "fit (Sec. 5.1)";
+    render::Series junctions;
+    const auto& segs = c.fit->segments();
+    for (std::size_t k = 0; k + 1 < segs.size(); ++k) {
+        junctions.x.push_back(segs[k].x_end);
+        junctions.y.push_back(c.fit->value(segs[k].x_end));
+    }
+    junctions.style = render::Series::Style::POINTS;
+    junctions.color = Vec3(0.84, 0.15, 0.16);
+    junctions.label = "segment junctions";
+    p.series = {data, fit};
+    if (!junctions.x.empty()) p.series.push_back(junctions);
+    return render::plot(p);
+}
+
+std::string describe_fit(const CurveView& c)
+{
+    std::ostringstream s;
+    const auto& segs = c.fit->segments();
+    s << c.title << " (" << c.key << "): x " << g(c.data->x.front()) << " .. " << g(c.data->x.back()) << " " << c.x_unit
+      << ", " << c.data->x.size() << " points, " << segs.size() << " segment" << (segs.size() == 1 ? "" : "s")
+      << ", y = c0 + c1 x + c2 x^2 (x in " << c.x_unit << ", y in " << c.y_unit << ")\n";
+    for (std::size_t k = 0; k < segs.size(); ++k) {
+        const auto& sg = segs[k];
+        const bool outer = k + 1 == segs.size();
+        const std::string end = std::isfinite(sg.x_end) ? g(sg.x_end, 4) : g(c.fit->data_max_x(), 4) + "..";
+        s << "  [" << g(sg.x_begin, 4) << ", " << end << "]  c0 " << g(sg.c0) << "  c1 " << g(sg.c1)
+          << "  c2 " << g(sg.c2) << (outer ? "  (outer line, extended linearly)" : "") << "\n";
+    }
+    s << "  max fit error " << g(kes::max_fit_error(*c.fit, *c.data), 4) << " " << c.y_unit << "\n";
+    s << "  outer line slope " << g(c.fit->line().c1, 4) << " " << c.rigidity_unit << " vs KES " << c.rigidity_name
+      << " " << g(c.rigidity, 4) << " " << c.rigidity_unit << "\n";
+    return s.str();
+}
+
+void bending_energy_outputs(const std::string& key, const std::string& title, const model::BendingEnergy& b,
+                            std::vector<Output>& out)
+{
+    const double sigma_cm = b.sigma_cm();
+    std::ostringstream csv;
+    csv << "theta_rad,B_J,K_per_cm\n";
+    render::Series s;
+    const int n = 500;
+    const double lo = 0.3, hi = std::numbers::pi;
+    for (int k = 0; k <= n; ++k) {
+        const double theta = lo + (hi - lo) * k / n;
+        const double B = b.of_angle(theta);
+        const double K = model::thread_curvature(theta, sigma_cm).K;
+        csv << g(theta, 10) << "," << g(B, 10) << "," << g(K, 10) << "\n";
+        s.x.push_back(theta);
+        s.y.push_back(B);
+    }
+    s.label = "B(theta), sigma = " + g(sigma_cm, 4) + " cm";
+    render::Plot p;
+    p.title = "Bending energy of one thread angle, " + title + " (Eq. 12, corrected Eq. 13)";
+    p.x_label = "thread angle theta (rad; pi = straight)";
+    p.y_label = "B (J)";
+    p.series = {s};
+    out.push_back({key + "_energy.csv", csv.str(), std::nullopt});
+    out.push_back({key + "_energy.png", "", render::plot(p)});
+}
+
+void trellis_energy_outputs(const model::TrellisEnergy& t, double sigma_cm, std::vector<Output>& out)
+{
+    std::ostringstream csv;
+    csv << "phi_rad,phi_deg,T_J\n";
+    render::Series s;
+    const int n = 520;
+    const double hi = 1.04;
+    for (int k = 0; k <= n; ++k) {
+        const double phi = hi * k / n;
+        const double T = t.of_angle(phi).value;
+        csv << g(phi, 10) << "," << g(phi * 180.0 / std::numbers::pi, 10) << "," << g(T, 10) << "\n";
+        s.x.push_back(phi);
+        s.y.push_back(T);
+    }
+    s.label = "T(phi), sigma = " + g(sigma_cm, 4) + " cm";
+    const double phi_e = t.last_measured_angle();
+    // Clip the singular end (T -> inf at 1.05 rad) so the measured part stays readable.
+    double y_max = t.of_angle(std::max(phi_e, 0.95)).value;
+    if (!(std::isfinite(y_max) && y_max > 0)) y_max = 1.0;
+    render::Series mark;
+    mark.x = {phi_e, phi_e};
+    mark.y = {0.0, y_max};
+    mark.color = Vec3(0.84, 0.15, 0.16);
+    mark.label = "phi_e = " + g(phi_e * 180.0 / std::numbers::pi, 3) + " deg (last measured angle)";
+    render::Series singular;
+    singular.x = {model::TrellisEnergy::kSingularAngle, model::TrellisEnergy::kSingularAngle};
+    singular.y = {0.0, y_max};
+    singular.color = Vec3(0.5, 0.5, 0.5);
+    singular.label = "singular angle 1.05 rad";
+    render::Plot p;
+    p.title = "Trellis energy of one crossing (Eq. 15; singular at 1.05 rad)";
+    p.x_label = "trellis angle phi (rad)";
+    p.y_label = "T (J)";
+    p.series = {s, mark, singular};
+    p.y_max = y_max;
+    out.push_back({"trellis_energy.csv", csv.str(), std::nullopt});
+    out.push_back({"trellis_energy.png", "", render::plot(p)});
+}
+
+}  // namespace
+
+int run_fit(const FitOptions& options)
+{
+    if (!(std::isfinite(options.sigma_cm) && options.sigma_cm > 0))
+        throw InputError("command line", "--sigma-cm", "expected a finite number > 0");
+    std::vector<std::string> warnings;
+    const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
+    print_warnings(warnings);
+    std::string name = fabric.name;
+    if (name.empty()) name = std::filesystem::path(options.fabric).stem().string();
+    const std::string dir = options.out.empty() ? join_path("out", "fit-" + name) : options.out;
+
+    // Everything is computed (and so validated) before anything is written.
+    const model::Grid grid{51, 51, options.sigma_cm * units::kCmToM};
+    const model::ClothModel m = model::make_cloth_model(fabric, grid, model::ModelOptions{});
+    const KesValues kv = kes_values(fabric);
+    const std::vector<CurveView> curves = {
+        {"bending_warp", "Bending, warp", &fabric.bending_warp.curve, &m.bending_warp().moment(),
+         "curvature K (1/cm)", "moment M (gf.cm/cm)", "1/cm", "gf.cm/cm", "B", "gf.cm2/cm", kv.B_warp},
+        {"bending_weft", "Bending, weft", &fabric.bending_weft.curve, &m.bending_weft().moment(),
+         "curvature K (1/cm)", "moment M (gf.cm/cm)", "1/cm", "gf.cm/cm", "B", "gf.cm2/cm", kv.B_weft},
+        {"shear", "Shear", &fabric.shear.curve, &m.trellis().force(), "shear angle (deg)", "force F (gf/cm)", "deg",
+         "gf/cm", "G", "gf/(cm.deg)", kv.G},
+    };
+    std::vector<Output> outputs;
+    std::string text = "fabric " + name + ": W " + g(kv.W, 4) + " mg/cm2; energies for sigma = " +
+                       g(options.sigma_cm, 4) + " cm\n";
+    for (const auto& c : curves) {
+        outputs.push_back({c.key + "_fit.png", "", fit_plot(c)});
+        text += describe_fit(c);
+    }
+    bending_energy_outputs("bending_warp", "warp", m.bending_warp(), outputs);
+    bending_energy_outputs("bending_weft", "weft", m.bending_weft(), outputs);
+    trellis_energy_outputs(m.trellis(), options.sigma_cm, outputs);
+    text += "trellis: phi_e " + g(m.trellis().last_measured_angle(), 4) + " rad, continuation T = a / (1.05 - phi) + b "
+            "with a " + g(m.trellis().continuation_a(), 4) + " J.rad, b " + g(m.trellis().continuation_b(), 4) + " J\n";
+
+    make_output_dir(dir);
+    for (const auto& o : outputs) {
+        const std::string path = join_path(dir, o.name);
+        if (o.image)
+            render::write_png(*o.image, path);
+        else
+            io::write_file_atomic(path, o.contents);
+    }
+    std::cout << text << "wrote " << outputs.size() << " files to " << dir << "\n";
+    return kExitOk;
+}
+
+void add_fit_command(CLI::App& app, int& exit_code)
+{
+    auto options = std::make_shared<FitOptions>();
+    CLI::App* sub = app.add_subcommand("fit", "Fit a fabric's KES curves and plot the energies built from them");
+    sub->footer("Fits the bending (warp, weft) and shear curves as the paper's Sec. 5.1 does and writes to --out: "
+                "<curve>_fit.png (data, fit, segment junctions), bending_{warp,weft}_energy.{png,csv} (B(theta), J) "
+                "and trellis_energy.{png,csv} (T(phi), J). Prints the fitted segments.");
+    sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")
+        ->required();
+    sub->add_option("--out", options->out, "Output directory (default out/fit-<name>)");
+    sub->add_option("--sigma-cm", options->sigma_cm, "Particle spacing sigma for the energy tables, cm")
+        ->capture_default_str();
+    sub->callback([options, &exit_code] { exit_code = run_fit(*options); });
+}
+
+}  // namespace woven::cli

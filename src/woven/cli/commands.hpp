@@ -1,0 +1,71 @@
+#pragma once
+// The subcommands of `woven` (one file each) and what they share. Each run_* function returns
+// the process exit code; errors are thrown (woven::InputError -> 2, anything else -> 1) and
+// caught in main.cpp, which alone prints them.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace woven::cli {
+
+/// Exit codes (README "Exit codes").
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+inline constexpr int kExitInterrupted = 130;
+
+struct FabricsOptions {
+    bool json = false;
+};
+
+struct ScenesOptions {
+    bool json = false;
+};
+
+struct FitOptions {
+    std::string fabric;
+    std::string out;         ///< empty: out/fit-<name>
+    double sigma_cm = 2.0;
+};
+
+struct DrapeOptions {
+    std::string scene = "cube";
+    std::optional<std::string> fabric;
+    std::optional<int> grid;
+    std::optional<std::string> solver;
+    std::optional<std::uint64_t> seed;
+    std::optional<int> threads;
+    std::optional<int> max_steps;
+    std::string out = "out";
+    bool no_render = false;
+    int width = 1024;
+    int height = 768;
+};
+
+/// Adds each subcommand to `app`; the callback stores the exit code in `exit_code`.
+void add_fabrics_command(CLI::App& app, int& exit_code);
+void add_scenes_command(CLI::App& app, int& exit_code);
+void add_fit_command(CLI::App& app, int& exit_code);
+void add_drape_command(CLI::App& app, int& exit_code);
+
+int run_fabrics(const FabricsOptions& options);
+int run_scenes(const ScenesOptions& options);
+int run_fit(const FitOptions& options);
+int run_drape(const DrapeOptions& options);
+
+/// Prints "woven: warning: <w>" on stderr for each warning.
+void print_warnings(const std::vector<std::string>& warnings);
+
+/// Creates `dir` (and its parents) when missing; RuntimeError when it cannot, or when it exists
+/// and is not a directory. Call only after every input has been validated.
+void make_output_dir(const std::string& dir);
+
+/// `dir` / `name` as a string.
+std::string join_path(const std::string& dir, const std::string& name);
+
+}  // namespace woven::cli

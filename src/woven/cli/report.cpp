@@ -1,0 +1,157 @@
+#include "woven/cli/report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+namespace woven::cli {
+
+KesValues kes_values(const kes::FabricData& f)
+{
+    namespace ki = kes::instrument;
+    KesValues v;
+    v.W = f.areal_density_mg_cm2;
+    v.B_warp = f.bending_warp.summary ? f.bending_warp.summary->B
+                                      : kes::data_slope(f.bending_warp.curve, ki::kBendingSlopeFrom, ki::kBendingSlopeTo);
+    v.B_weft = f.bending_weft.summary ? f.bending_weft.summary->B
+                                      : kes::data_slope(f.bending_weft.curve, ki::kBendingSlopeFrom, ki::kBendingSlopeTo);
+    v.G = f.shear.summary ? f.shear.summary->G : kes::data_slope(f.shear.curve, ki::kShearSlopeFrom, ki::kShearSlopeTo);
+    return v;
+}
+
+StateMeasures measure_state(const Positions& x, const model::Grid& grid, const geometry::ObstacleSet& obstacles,
+                            double contact_distance)
+{
+    StateMeasures m;
+    geometry::Aabb box;
+    for (const Vec3& p : x) {
+        box.extend(p);
+        double nearest = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < obstacles.size(); ++k) {
+            const double d = obstacles[k].distance(p);
+            nearest = std::min(nearest, d);
+            m.max_penetration = std::max(m.max_penetration, -d);
+        }
+        if (nearest < contact_distance) ++m.contact_particles;
+    }
+    if (!box.empty()) {
+        m.bbox_min = box.lo;
+        m.bbox_max = box.hi;
+    }
+    double sum = 0;
+    long count = 0;
+    m.strain_max = -std::numeric_limits<double>::infinity();
+    m.strain_min = std::numeric_limits<double>::infinity();
+    auto edge = [&](int a, int b) {
+        const double s = (x[a] - x[b]).norm() / grid.sigma - 1.0;
+        m.strain_max = std::max(m.strain_max, s);
+        m.strain_min = std::min(m.strain_min, s);
+        m.strain_max_abs = std::max(m.strain_max_abs, std::abs(s));
+        sum += s;
+        ++count;
+    };
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            if (i + 1 < grid.nu) edge(grid.index(i, j), grid.index(i + 1, j));
+            if (j + 1 < grid.nv) edge(grid.index(i, j), grid.index(i, j + 1));
+        }
+    if (count == 0) m.strain_max = m.strain_min = 0;
+    m.strain_mean = count ? sum / count : 0;
+    return m;
+}
+
+namespace {
+
+nlohmann::json vec(const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); }
+
+/// JSON has no inf/NaN: nlohmann writes them as null; keep that explicit.
+nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json energy_json(const model::EnergyTerms& e)
+{
+    return {{"repulsion_J", num(e.repulsion)},       {"stretch_J", num(e.stretch)},
+            {"bending_warp_J", num(e.bending_warp)}, {"bending_weft_J", num(e.bending_weft)},
+            {"trellis_J", num(e.trellis)},           {"gravity_J", num(e.gravity)},
+            {"total_J", num(e.total())}};
+}
+
+}  // namespace
+
+nlohmann::json drape_report(const DrapeReportInput& in)
+{
+    const auto& model = *in.model;
+    const auto& r = *in.result;
+    const auto& grid = model.grid();
+    const StateMeasures m = measure_state(r.x, grid, *in.obstacles, in.solver->contact_distance);
+    const KesValues kv = kes_values(*in.fabric_data);
+
+    nlohmann::json j;
+    j["version"] = WOVEN_VERSION;
+    j["scene"] = in.scene;
+    j["scene_source"] = in.scene_source;
+    j["fabric"] = in.fabric;
+    j["grid"] = {grid.nu, grid.nv};
+    j["particles"] = grid.size();
+    j["sigma_m"] = grid.sigma;
+    j["solver"] = in.solver->kind == sim::SolverKind::FAST ? "fast" : "paper";
+    j["seed"] = in.solver->seed;
+    j["threads"] = in.solver->threads;
+    j["max_steps"] = in.solver->max_steps;
+    j["converged"] = r.converged;
+    j["interrupted"] = in.interrupted || r.interrupted;
+    j["steps"] = r.steps;
+    j["iterations"] = r.iterations;
+    j["simulated_time_s"] = num(r.simulated_time);
+    j["wall_time_s"] = num(r.wall_time);
+    j["energy"] = energy_json(r.energy);
+    j["energy_initial_J"] = num(in.energy_initial);
+    j["equilibrium"] = {{"max_move_m", num(r.equilibrium.max_move)},
+                        {"max_residual_rel", num(r.equilibrium.max_residual_rel)},
+                        {"residual_tolerance", in.solver->residual_tolerance}};
+    j["contact"] = {{"max_penetration_m", num(m.max_penetration)},
+                    {"particles", m.contact_particles},
+                    {"contact_distance_m", in.solver->contact_distance}};
+    j["strain"] = {{"max", num(m.strain_max)},
+                   {"min", num(m.strain_min)},
+                   {"mean", num(m.strain_mean)},
+                   {"max_abs", num(m.strain_max_abs)}};
+    j["bbox"] = {{"min_m", vec(m.bbox_min)}, {"max_m", vec(m.bbox_max)}};
+    j["particle_mass_kg"] = model.particle_mass();
+    j["gravity_m_s2"] = model.gravity();
+    j["C0_J"] = model.spacing().C0;
+    j["kes"] = {{"W_mg_cm2", kv.W},
+                {"B_warp_gf_cm2_cm", kv.B_warp},
+                {"B_weft_gf_cm2_cm", kv.B_weft},
+                {"G_gf_cm_deg", kv.G}};
+    j["outputs"] = in.outputs;
+    return j;
+}
+
+std::string drape_summary(const nlohmann::json& r)
+{
+    auto g = [](const nlohmann::json& v) -> std::string {
+        if (!v.is_number()) return "n/a";
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.4g", v.get<double>());
+        return buf;
+    };
+    std::ostringstream s;
+    s << "scene " << r["scene"].get<std::string>() << ", fabric " << r["fabric"].get<std::string>() << ", grid "
+      << r["grid"][0] << " x " << r["grid"][1] << ", solver " << r["solver"].get<std::string>() << "\n";
+    s << "converged:   " << (r["converged"].get<bool>() ? "yes" : "no")
+      << (r["interrupted"].get<bool>() ? " (interrupted)" : "") << "\n";
+    s << "steps:       " << r["steps"] << " (" << r["iterations"] << " iterations), simulated "
+      << g(r["simulated_time_s"]) << " s, wall " << g(r["wall_time_s"]) << " s\n";
+    s << "energy:      " << g(r["energy"]["total_J"]) << " J (initial " << g(r["energy_initial_J"]) << " J)\n";
+    s << "equilibrium: max move " << g(r["equilibrium"]["max_move_m"]) << " m, max residual "
+      << g(r["equilibrium"]["max_residual_rel"]) << " m g\n";
+    s << "contact:     max penetration " << g(r["contact"]["max_penetration_m"]) << " m, "
+      << r["contact"]["particles"] << " particles in contact\n";
+    s << "strain:      max " << g(r["strain"]["max"]) << ", min " << g(r["strain"]["min"]) << ", mean "
+      << g(r["strain"]["mean"]) << "\n";
+    return s.str();
+}
+
+}  // namespace woven::cli

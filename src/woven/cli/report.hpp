@@ -1,0 +1,61 @@
+#pragma once
+// What `woven drape` reports (report.json and the summary on stdout), and the fabric's key KES
+// values shared with `woven fabrics`.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "woven/common/types.hpp"
+#include "woven/geometry/obstacle.hpp"
+#include "woven/kes/fabric.hpp"
+#include "woven/model/cloth_model.hpp"
+#include "woven/sim/drape.hpp"
+
+namespace woven::cli {
+
+/// A fabric's summary values in KES units: from the file's summary when it gave one, else the
+/// KES slope of the curve over the instrument's window (B: 0.5-1.5 1/cm, G: 0.5-5 deg).
+struct KesValues {
+    double W = 0;        ///< mg/cm^2
+    double B_warp = 0;   ///< gf.cm^2/cm
+    double B_weft = 0;   ///< gf.cm^2/cm
+    double G = 0;        ///< gf/(cm.deg)
+};
+KesValues kes_values(const kes::FabricData& fabric);
+
+/// Geometric measures of a draped state (SI).
+struct StateMeasures {
+    double max_penetration = 0;  ///< m: largest max(0, -distance) over particles and obstacles
+    int contact_particles = 0;   ///< particles within `contact_distance` of an obstacle
+    double strain_max = 0;       ///< largest thread strain |x_i - x_j| / sigma - 1 over the 4-connected edges
+    double strain_min = 0;       ///< smallest (most compressed)
+    double strain_mean = 0;      ///< mean
+    double strain_max_abs = 0;   ///< largest |strain|
+    Vec3 bbox_min = Vec3::Zero(), bbox_max = Vec3::Zero();  ///< m
+};
+StateMeasures measure_state(const Positions& x, const model::Grid& grid, const geometry::ObstacleSet& obstacles,
+                            double contact_distance);
+
+/// Everything report.json holds.
+struct DrapeReportInput {
+    std::string scene;          ///< scene name
+    std::string scene_source;   ///< the file it came from
+    std::string fabric;         ///< fabric name
+    const kes::FabricData* fabric_data = nullptr;
+    const model::ClothModel* model = nullptr;
+    const geometry::ObstacleSet* obstacles = nullptr;
+    const sim::SolverOptions* solver = nullptr;
+    const sim::Result* result = nullptr;
+    double energy_initial = 0;  ///< J
+    bool interrupted = false;
+    std::vector<std::string> outputs;  ///< files written besides report.json
+};
+
+/// report.json (keys documented in README.md).
+nlohmann::json drape_report(const DrapeReportInput& in);
+
+/// The short human summary printed on stdout, from the report.
+std::string drape_summary(const nlohmann::json& report);
+
+}  // namespace woven::cli

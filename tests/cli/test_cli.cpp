@@ -1,0 +1,442 @@
+// The `woven` command line, run as a real process (WOVEN_BINARY) in a temporary directory.
+// Kept fast (tiny grids, few steps) since the suite also runs under the sanitizers.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string quote(const std::string& s)
+{
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+std::string slurp(const fs::path& p)
+{
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+void write(const fs::path& p, const std::string& text)
+{
+    std::ofstream out(p, std::ios::binary);
+    out << text;
+}
+
+/// A fresh temporary directory per test, removed afterwards.
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() / ("woven_cli_" + std::to_string(::getpid()) + "_" + info->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override
+    {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+
+    /// Runs `woven <args>` in the temporary directory.
+    Outcome woven(const std::string& args)
+    {
+        const fs::path err = dir_ / ".stderr";
+        const std::string cmd = "cd " + quote(dir_.string()) + " && " + quote(WOVEN_BINARY) + " " + args + " 2>" +
+                                quote(err.string());
+        Outcome r;
+        FILE* p = ::popen(cmd.c_str(), "r");
+        if (!p) return r;
+        char buf[4096];
+        std::size_t n;
+        while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+        const int status = ::pclose(p);
+        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.err = slurp(err);
+        fs::remove(err);
+        return r;
+    }
+
+    /// Files in the temporary directory (recursively), besides the test's own inputs.
+    int count_entries(const fs::path& sub) const
+    {
+        int n = 0;
+        for (auto it = fs::recursive_directory_iterator(dir_ / sub); it != fs::recursive_directory_iterator(); ++it) ++n;
+        return n;
+    }
+
+    fs::path dir_;
+};
+
+/// A 0.3 m cloth, 9 x 9, over a sphere on a floor.
+const char* kTinyScene = R"(name = "tiny"
+description = "test scene"
+[cloth]
+size_m = [0.3, 0.3]
+grid = [9, 9]
+height_m = 0.12
+fabric = "cotton"
+[[obstacle]]
+type = "plane"
+[[obstacle]]
+type = "sphere"
+centre_m = [0.0, 0.0, 0.05]
+radius_m = 0.05
+)";
+
+std::string replace(std::string s, const std::string& from, const std::string& to)
+{
+    const auto at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) s.replace(at, from.size(), to);
+    return s;
+}
+
+bool one_line(const std::string& s)
+{
+    return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1;
+}
+
+TEST_F(Cli, VersionPrintsTheVersion)
+{
+    const Outcome r = woven("--version");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.out, std::string("woven ") + WOVEN_VERSION + "\n");
+}
+
+TEST_F(Cli, HelpOfEverySubcommand)
+{
+    for (const char* args : {"--help", "fabrics --help", "scenes --help", "fit --help", "drape --help"}) {
+        const Outcome r = woven(args);
+        EXPECT_EQ(r.code, 0) << args << ": " << r.err;
+        EXPECT_NE(r.out.find("Usage"), std::string::npos) << args;
+    }
+    EXPECT_NE(woven("drape --help").out.find("--max-steps"), std::string::npos);
+    EXPECT_NE(woven("fit --help").out.find("--sigma-cm"), std::string::npos);
+}
+
+TEST_F(Cli, BadUsageExitsWithTwo)
+{
+    Outcome r = woven("nosuchcommand");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("nosuchcommand"), std::string::npos) << r.err;
+    EXPECT_TRUE(one_line(r.err)) << r.err;
+    r = woven("");
+    EXPECT_EQ(r.code, 2);
+    r = woven("fabrics --no-such-option");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("--no-such-option"), std::string::npos) << r.err;
+    r = woven("fit");  // FABRIC is required
+    EXPECT_EQ(r.code, 2);
+    r = woven("drape --solver slow");
+    EXPECT_EQ(r.code, 2);
+    r = woven("drape --grid many");
+    EXPECT_EQ(r.code, 2);
+    r = woven("drape --seed -1");
+    EXPECT_EQ(r.code, 2);
+    r = woven("fit cotton --sigma-cm abc");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+TEST_F(Cli, FabricsListsTheBuiltIns)
+{
+    const Outcome r = woven("fabrics");
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* name : {"cotton", "wool", "polyester_cotton", "silk", "denim"})
+        EXPECT_NE(r.out.find(name), std::string::npos) << name;
+    EXPECT_NE(r.out.find("mg/cm2"), std::string::npos);
+
+    const Outcome j = woven("fabrics --json");
+    ASSERT_EQ(j.code, 0) << j.err;
+    const auto list = nlohmann::json::parse(j.out);
+    ASSERT_TRUE(list.is_array());
+    ASSERT_GE(list.size(), 5u);
+    for (const auto& f : list) {
+        EXPECT_GT(f.at("W_mg_cm2").get<double>(), 0);
+        EXPECT_GT(f.at("B_warp_gf_cm2_cm").get<double>(), 0);
+        EXPECT_GT(f.at("B_weft_gf_cm2_cm").get<double>(), 0);
+        EXPECT_GT(f.at("G_gf_cm_deg").get<double>(), 0);
+    }
+}
+
+TEST_F(Cli, ScenesListsTheBuiltIns)
+{
+    const Outcome r = woven("scenes");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("cube"), std::string::npos);
+}
+
+TEST_F(Cli, FitWritesPlotsAndTables)
+{
+    const Outcome r = woven("fit cotton --out fit");
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* f : {"bending_warp_fit.png", "bending_weft_fit.png", "shear_fit.png", "bending_warp_energy.png",
+                          "bending_warp_energy.csv", "bending_weft_energy.png", "bending_weft_energy.csv",
+                          "trellis_energy.png", "trellis_energy.csv"}) {
+        ASSERT_TRUE(fs::exists(dir_ / "fit" / f)) << f;
+        EXPECT_GT(fs::file_size(dir_ / "fit" / f), 0u) << f;
+    }
+    // Only the outputs: no temporary files left.
+    EXPECT_EQ(count_entries("fit"), 9);
+    const std::string png = slurp(dir_ / "fit" / "shear_fit.png");
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+
+    auto header = [&](const char* f) {
+        std::ifstream in(dir_ / "fit" / f);
+        std::string line;
+        std::getline(in, line);
+        return line;
+    };
+    EXPECT_EQ(header("bending_warp_energy.csv"), "theta_rad,B_J,K_per_cm");
+    EXPECT_EQ(header("bending_weft_energy.csv"), "theta_rad,B_J,K_per_cm");
+    EXPECT_EQ(header("trellis_energy.csv"), "phi_rad,phi_deg,T_J");
+
+    // The trellis table covers 0 .. 1.04 rad with finite energies.
+    std::ifstream in(dir_ / "fit" / "trellis_energy.csv");
+    std::string line;
+    std::getline(in, line);
+    double last_phi = -1, last_T = -1;
+    int rows = 0;
+    while (std::getline(in, line)) {
+        double phi = 0, deg = 0, T = 0;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf", &phi, &deg, &T), 3) << line;
+        EXPECT_GT(phi, last_phi);
+        EXPECT_GE(T, last_T);
+        last_phi = phi;
+        last_T = T;
+        ++rows;
+    }
+    EXPECT_GT(rows, 100);
+    EXPECT_NEAR(last_phi, 1.04, 1e-9);
+
+    // The text names the segments and compares the outer slope with the KES values.
+    EXPECT_NE(r.out.find("Bending, warp"), std::string::npos);
+    EXPECT_NE(r.out.find("KES B"), std::string::npos);
+    EXPECT_NE(r.out.find("KES G"), std::string::npos);
+    EXPECT_NE(r.out.find("max fit error"), std::string::npos);
+}
+
+TEST_F(Cli, FitDefaultsToOutFitName)
+{
+    const Outcome r = woven("fit silk");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir_ / "out" / "fit-silk" / "shear_fit.png"));
+}
+
+TEST_F(Cli, FitUnknownFabricWritesNothing)
+{
+    const Outcome r = woven("fit nosuchfabric");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("nosuchfabric"), std::string::npos) << r.err;
+    EXPECT_TRUE(one_line(r.err)) << r.err;
+    EXPECT_EQ(r.err.rfind("woven: error: ", 0), 0u) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out"));
+    EXPECT_EQ(count_entries(""), 0);
+}
+
+TEST_F(Cli, FitMalformedFabricFile)
+{
+    write(dir_ / "bad.toml", "name = \"bad\"\nareal_density_mg_cm2 = [1\n");  // TOML syntax error
+    Outcome r = woven("fit bad.toml --out fit");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("bad.toml"), std::string::npos) << r.err;
+    EXPECT_TRUE(one_line(r.err)) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "fit"));
+
+    // A valid fabric file with a negative rigidity.
+    std::string cotton = slurp(fs::path(WOVEN_SOURCE_DIR) / "fabrics" / "cotton.toml");
+    write(dir_ / "neg.toml", replace(cotton, "G = 1.6", "G = -1.6"));
+    r = woven("fit neg.toml --out fit");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("neg.toml"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("shear.G"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "fit"));
+
+    r = woven("fit cotton --sigma-cm -1 --out fit");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_FALSE(fs::exists(dir_ / "fit"));
+}
+
+TEST_F(Cli, DrapeTinySceneWritesEverything)
+{
+    write(dir_ / "tiny.toml", kTinyScene);
+    const Outcome r = woven("drape tiny.toml --out res --max-steps 40 --width 160 --height 120 --threads 1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* f : {"drape.obj", "drape.ply", "drape.png", "report.json"}) {
+        ASSERT_TRUE(fs::exists(dir_ / "res" / f)) << f;
+        EXPECT_GT(fs::file_size(dir_ / "res" / f), 0u) << f;
+    }
+    EXPECT_EQ(count_entries("res"), 4);  // no temporary files left
+    EXPECT_EQ(slurp(dir_ / "res" / "drape.ply").substr(0, 4), "ply\n");
+
+    const auto j = nlohmann::json::parse(slurp(dir_ / "res" / "report.json"));
+    for (const char* key : {"version", "scene", "fabric", "grid", "sigma_m", "solver", "seed", "converged",
+                            "interrupted", "steps", "iterations", "simulated_time_s", "wall_time_s", "energy",
+                            "energy_initial_J", "equilibrium", "contact", "strain", "bbox", "particle_mass_kg", "C0_J",
+                            "kes"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    for (const char* key : {"repulsion_J", "stretch_J", "bending_warp_J", "bending_weft_J", "trellis_J", "gravity_J",
+                            "total_J"})
+        EXPECT_TRUE(j["energy"].contains(key)) << key;
+    EXPECT_TRUE(j["equilibrium"].contains("max_move_m"));
+    EXPECT_TRUE(j["equilibrium"].contains("max_residual_rel"));
+    EXPECT_TRUE(j["contact"].contains("max_penetration_m"));
+    EXPECT_TRUE(j["contact"].contains("particles"));
+    EXPECT_TRUE(j["strain"].contains("max"));
+    EXPECT_TRUE(j["strain"].contains("min"));
+    EXPECT_TRUE(j["strain"].contains("mean"));
+    EXPECT_TRUE(j["bbox"].contains("min_m"));
+    EXPECT_TRUE(j["bbox"].contains("max_m"));
+
+    EXPECT_EQ(j["version"], WOVEN_VERSION);
+    EXPECT_EQ(j["scene"], "tiny");
+    EXPECT_EQ(j["fabric"], "cotton");
+    EXPECT_EQ(j["grid"], nlohmann::json::array({9, 9}));
+    EXPECT_NEAR(j["sigma_m"].get<double>(), 0.3 / 8, 1e-12);
+    EXPECT_EQ(j["solver"], "fast");
+    EXPECT_FALSE(j["interrupted"].get<bool>());
+    EXPECT_LE(j["steps"].get<int>(), 40);
+    // The cloth falls: the energy goes down, and it stays above the floor.
+    EXPECT_LT(j["energy"]["total_J"].get<double>(), j["energy_initial_J"].get<double>());
+    EXPECT_GE(j["bbox"]["min_m"][2].get<double>(), -1e-3);
+    EXPECT_GE(j["contact"]["max_penetration_m"].get<double>(), 0.0);
+    EXPECT_NEAR(j["particle_mass_kg"].get<double>(), 12.0 * 1e-2 * (0.3 / 8) * (0.3 / 8), 1e-12);
+
+    EXPECT_NE(r.out.find("converged"), std::string::npos);
+    EXPECT_NE(r.out.find("strain"), std::string::npos);
+}
+
+TEST_F(Cli, DrapeNoRenderAndOverrides)
+{
+    write(dir_ / "tiny.toml", kTinyScene);
+    const Outcome r = woven("drape tiny.toml --out res --max-steps 3 --no-render --grid 7 --fabric wool --solver fast "
+                        "--seed 5");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "res" / "drape.png"));
+    EXPECT_TRUE(fs::exists(dir_ / "res" / "drape.obj"));
+    const auto j = nlohmann::json::parse(slurp(dir_ / "res" / "report.json"));
+    EXPECT_EQ(j["grid"], nlohmann::json::array({7, 7}));
+    EXPECT_EQ(j["fabric"], "wool");
+    EXPECT_EQ(j["seed"], 5);
+    EXPECT_LE(j["steps"].get<int>(), 3);
+}
+
+/// Each bad input: exit 2, one line naming the file and the field, nothing written.
+TEST_F(Cli, DrapeBadInputsWriteNothing)
+{
+    const std::string tiny = kTinyScene;
+    struct Case {
+        const char* what;
+        std::string scene;
+        std::string args;
+        std::vector<std::string> expect;  // substrings of the message
+    };
+    const std::vector<Case> cases = {
+        {"unknown obstacle type", replace(tiny, "type = \"sphere\"", "type = \"sphre\""), "", {"obstacle[2].type", "sphre"}},
+        {"missing mesh file", replace(tiny, "type = \"sphere\"", "type = \"mesh\"\nfile = \"nothere.obj\""), "",
+         {"obstacle[2].file", "nothere.obj"}},
+        {"cloth inside an obstacle", replace(tiny, "height_m = 0.12", "height_m = 0.05"), "", {"cloth", "obstacle[2]"}},
+        {"grid 2", replace(tiny, "grid = [9, 9]", "grid = [2, 2]"), "", {"cloth.grid"}},
+        {"NaN", replace(tiny, "height_m = 0.12", "height_m = nan"), "", {"cloth.height_m"}},
+        {"grid 2 on the command line", tiny, "--grid 2", {"--grid"}},
+        {"unknown fabric", tiny, "--fabric nosuchfabric", {"nosuchfabric"}},
+        {"bad picture size", tiny, "--width 0", {"--width"}},
+    };
+    for (const auto& c : cases) {
+        write(dir_ / "scene.toml", c.scene);
+        const Outcome r = woven("drape scene.toml --out res --max-steps 2 " + c.args);
+        EXPECT_EQ(r.code, 2) << c.what << ": " << r.err;
+        EXPECT_TRUE(one_line(r.err)) << c.what << ": " << r.err;
+        EXPECT_EQ(r.err.rfind("woven: error: ", 0), 0u) << c.what << ": " << r.err;
+        if (c.args.empty()) {
+            EXPECT_NE(r.err.find("scene.toml"), std::string::npos) << c.what << ": " << r.err;
+        }
+        for (const auto& e : c.expect) EXPECT_NE(r.err.find(e), std::string::npos) << c.what << ": " << r.err;
+        EXPECT_FALSE(fs::exists(dir_ / "res")) << c.what;
+        fs::remove_all(dir_ / "res");
+    }
+    const Outcome r = woven("drape nosuchscene --out res");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("nosuchscene"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "res"));
+}
+
+TEST_F(Cli, DrapeOutputPathThatIsAFileIsARuntimeFailure)
+{
+    write(dir_ / "tiny.toml", kTinyScene);
+    write(dir_ / "res", "not a directory");
+    const Outcome r = woven("drape tiny.toml --out res --max-steps 2 --no-render");
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_TRUE(one_line(r.err)) << r.err;
+    EXPECT_EQ(slurp(dir_ / "res"), "not a directory");
+}
+
+/// Ctrl-C: the solver stops after the current step; the outputs are written with
+/// converged = false, interrupted = true, and the exit code is 130.
+TEST_F(Cli, DrapeInterruptWritesTheStateReached)
+{
+    const fs::path err = dir_ / "stderr.txt";
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        if (::chdir(dir_.c_str()) != 0) ::_exit(99);
+        FILE* f = std::freopen(err.c_str(), "w", stderr);
+        if (!f) ::_exit(99);
+        FILE* o = std::freopen("/dev/null", "w", stdout);
+        if (!o) ::_exit(99);
+        ::execl(WOVEN_BINARY, WOVEN_BINARY, "drape", "cube", "--grid", "31", "--max-steps", "400", "--out", "res",
+                "--no-render", static_cast<char*>(nullptr));
+        ::_exit(98);
+    }
+    // Wait for the first progress line (printed after about 0.5 s), then press Ctrl-C.
+    int status = 0;
+    bool exited = false;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < deadline) {
+        if (::waitpid(pid, &status, WNOHANG) == pid) {
+            exited = true;
+            break;
+        }
+        if (slurp(err).find("\nstep ") != std::string::npos) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (!exited) {
+        ::kill(pid, SIGINT);
+        ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    }
+    if (exited && WIFEXITED(status) && WEXITSTATUS(status) == 0)
+        GTEST_SKIP() << "the drape finished before the first progress line";
+    ASSERT_TRUE(WIFEXITED(status)) << slurp(err);
+    EXPECT_EQ(WEXITSTATUS(status), 130) << slurp(err);
+    for (const char* f : {"drape.obj", "drape.ply", "report.json"}) EXPECT_TRUE(fs::exists(dir_ / "res" / f)) << f;
+    const auto j = nlohmann::json::parse(slurp(dir_ / "res" / "report.json"));
+    EXPECT_TRUE(j["interrupted"].get<bool>());
+    EXPECT_FALSE(j["converged"].get<bool>());
+}
+
+}  // namespace
