@@ -135,10 +135,9 @@ TEST(Box, GrazingSegmentTerminatesWithoutContact)
     const Box box(Vec3::Zero(), Vec3(1, 1, 1), 0.2);
     const Vec3 n(std::cos(0.2), std::sin(0.2), 0), along(-std::sin(0.2), std::cos(0.2), 0);
     const Vec3 p0 = (1 + 1e-7) * n - 5 * along, p1 = (1 + 1e-7) * n + 5 * along;
-    const auto start = std::chrono::steady_clock::now();
+    // Returning at all is the point (the test is analytic, no march); no wall time is asserted.
     EXPECT_FALSE(box.first_contact(p0, p1));
     EXPECT_TRUE(box.first_contact(p0, p1 - 2e-7 * n));  // dips 1e-7 m into the face
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.01);
 }
 
 // ---------------------------------------------------------------- Sphere
