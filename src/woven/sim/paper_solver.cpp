@@ -72,7 +72,7 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
     std::normal_distribution<double> normal(0.0, 1.0 / std::sqrt(3.0));
 
     Result result;
-    Positions x = problem.initial, v(n, Vec3::Zero()), x1(n), dx(n), trial(n), x_prev;
+    Positions x = problem.initial, v(n, Vec3::Zero()), x1(n), dx(n), step_dx(n), trial(n), x_prev;
     std::vector<Vec3, Eigen::aligned_allocator<Vec3>> normals(n);
     DiagonalAssembly diag(n);
     int calm = 0;
@@ -122,7 +122,6 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
             double sweep_move = 0;
             for (double alpha = 1.0; alpha > 1e-3; alpha *= 0.5) {
                 trial = x2;
-                Positions step_dx(n);
                 for (int i = 0; i < n; ++i) step_dx[i] = alpha * dx[i];
                 move_with_collisions(obstacles, trial, step_dx, clearance, nullptr);
                 const double phi_trial = phase2_energy(trial);
