@@ -14,3 +14,11 @@ find_library(STB_LIBRARY stb REQUIRED)
 add_library(woven_stb INTERFACE)
 target_include_directories(woven_stb INTERFACE ${STB_INCLUDE_DIR})
 target_link_libraries(woven_stb INTERFACE ${STB_LIBRARY})
+
+# CHOLMOD (SuiteSparse) through Eigen's CholmodSupport: supernodal sparse Cholesky for the fast
+# solver's Newton systems. Debian 12's SuiteSparse 5 ships no CMake or pkg-config files.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
+add_library(woven_cholmod INTERFACE)
+target_include_directories(woven_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(woven_cholmod INTERFACE ${CHOLMOD_LIBRARY} ${CMAKE_DL_LIBS})

@@ -103,6 +103,10 @@ nlohmann::json drape_report(const DrapeReportInput& in)
     j["interrupted"] = in.interrupted || r.interrupted;
     j["steps"] = r.steps;
     j["iterations"] = r.iterations;
+    if (in.solver->kind == sim::SolverKind::FAST) {
+        j["factorizations"] = r.factorizations;
+        j["cg_iterations"] = r.cg_iterations;
+    }
     j["simulated_time_s"] = num(r.simulated_time);
     j["wall_time_s"] = num(r.wall_time);
     j["energy"] = energy_json(r.energy);

@@ -160,8 +160,9 @@ Eigen::VectorXd ClothModel::gradient(const Positions& x) const
 
 std::vector<std::pair<int, int>> ClothModel::close_pairs(const Positions& x) const
 {
-    // Spatial hash: cells of size sigma, particles sorted by cell key; each particle looks in the
-    // 27 cells around its own.
+    // Spatial hash: cells of size sigma; particles sorted by cell key, an open-addressing table
+    // from key to the run of particles in that cell; each particle looks in the 27 cells around
+    // its own.
     const double h = spacing_.sigma;
     const int n = static_cast<int>(x.size());
     auto cell_of = [&](const Vec3& p) {
@@ -174,6 +175,26 @@ std::vector<std::pair<int, int>> ClothModel::close_pairs(const Positions& x) con
     std::vector<std::pair<std::int64_t, int>> cells(n);
     for (int k = 0; k < n; ++k) cells[k] = {key(cell_of(x[k])), k};
     std::sort(cells.begin(), cells.end());
+
+    struct Slot {
+        std::int64_t key = -1;
+        int begin = 0, end = 0;
+    };
+    size_t table_size = 16;
+    while (table_size < 2 * static_cast<size_t>(n)) table_size *= 2;
+    std::vector<Slot> table(table_size);
+    auto slot_of = [&](std::int64_t k) {
+        size_t s = static_cast<size_t>((static_cast<std::uint64_t>(k) * 0x9E3779B97F4A7C15ull) >> 20) & (table_size - 1);
+        while (table[s].key != -1 && table[s].key != k) s = (s + 1) & (table_size - 1);
+        return s;
+    };
+    for (int b = 0; b < n;) {
+        int e = b + 1;
+        while (e < n && cells[e].first == cells[b].first) ++e;
+        table[slot_of(cells[b].first)] = {cells[b].first, b, e};
+        b = e;
+    }
+
     std::vector<std::pair<int, int>> pairs;
     const double h2 = h * h;
     for (int p = 0; p < n; ++p) {
@@ -182,9 +203,10 @@ std::vector<std::pair<int, int>> ClothModel::close_pairs(const Positions& x) con
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const std::int64_t k = key(c + Eigen::Vector3i(dx, dy, dz));
-                    auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(k, -1));
-                    for (; it != cells.end() && it->first == k; ++it) {
-                        const int q = it->second;
+                    const Slot& slot = table[slot_of(k)];
+                    if (slot.key != k) continue;
+                    for (int m = slot.begin; m < slot.end; ++m) {
+                        const int q = cells[m].second;
                         if (q > p && (x[p] - x[q]).squaredNorm() < h2) pairs.emplace_back(p, q);
                     }
                 }

@@ -6,6 +6,7 @@
 
 #include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
+#include "woven/sim/linear_solver.hpp"
 #include "woven/sim/solvers.hpp"
 
 namespace woven::sim {
@@ -62,7 +63,10 @@ Result drape(const Problem& problem, const SolverOptions& options, const Progres
         if (!p.allFinite()) throw InputError("", "initial", "positions must be finite");
     for (int p : problem.pinned)
         if (p < 0 || p >= problem.model->grid().size()) throw InputError("", "pinned", "particle index out of range");
-    if (options.threads > 0) omp_set_num_threads(options.threads);
+    if (options.threads > 0) {
+        omp_set_num_threads(options.threads);
+        set_blas_threads(options.threads);
+    }
     return options.kind == SolverKind::FAST ? detail::fast_drape(problem, options, progress) : detail::paper_drape(problem, options, progress);
 }
 

@@ -65,6 +65,8 @@ struct Result {
     bool interrupted = false;
     int steps = 0;
     int iterations = 0;  ///< Newton iterations (fast) or minimisation sweeps (paper)
+    int factorizations = 0;  ///< fast solver: sparse Cholesky factorisations
+    int cg_iterations = 0;   ///< fast solver: preconditioned CG iterations
     double simulated_time = 0;
     double wall_time = 0;  ///< s
     Equilibrium equilibrium;

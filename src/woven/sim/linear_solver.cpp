@@ -1,0 +1,103 @@
+#include "woven/sim/linear_solver.hpp"
+
+#include <dlfcn.h>
+
+#include <cmath>
+
+#include <Eigen/CholmodSupport>
+
+#include "woven/common/error.hpp"
+
+namespace woven::sim {
+
+struct NewtonLinearSolver::Factor {
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+    Eigen::SparseMatrix<double> pattern;  ///< the lower triangle's structure last analysed
+    bool analysed = false;
+};
+
+NewtonLinearSolver::NewtonLinearSolver() : NewtonLinearSolver(Options{}) { }
+
+NewtonLinearSolver::NewtonLinearSolver(Options options) : options_(options), factor_(std::make_unique<Factor>())
+{
+    // Nested dissection orders a cloth grid with ~20 % less fill than AMD.
+    factor_->llt.cholmod().nmethods = 1;
+    factor_->llt.cholmod().method[0].ordering = CHOLMOD_NESDIS;
+}
+
+NewtonLinearSolver::~NewtonLinearSolver() = default;
+
+void NewtonLinearSolver::reset() { factor_->analysed = false; }
+
+namespace {
+bool same_structure(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b)
+{
+    if (a.rows() != b.rows() || a.nonZeros() != b.nonZeros()) return false;
+    return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.outerSize() + 1, b.outerIndexPtr())
+        && std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+}
+}  // namespace
+
+void NewtonLinearSolver::factorize(const Eigen::SparseMatrix<double>& H)
+{
+    Factor& f = *factor_;
+    Eigen::SparseMatrix<double> lower = H.triangularView<Eigen::Lower>();
+    if (!f.analysed || !same_structure(lower, f.pattern)) {
+        f.llt.analyzePattern(lower);
+        f.pattern = lower;
+        f.analysed = true;
+    }
+    // Round-off can leave a nearly singular H (an unloaded thread, a long static step) just
+    // short of positive definite: shift the diagonal until the factorisation succeeds.
+    double shift = 0;
+    const double scale = lower.diagonal().cwiseAbs().maxCoeff();
+    for (int attempt = 0; attempt < 8; ++attempt) {
+        f.llt.setShift(shift);
+        f.llt.factorize(lower);
+        ++factorizations_;
+        if (f.llt.info() == Eigen::Success) return;
+        shift = shift == 0 ? 1e-12 * scale : 100 * shift;
+    }
+    f.analysed = false;
+    throw RuntimeError("fast solver: the Newton matrix could not be factorised");
+}
+
+bool NewtonLinearSolver::preconditioned_cg(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)
+{
+    const double target = options_.relative_tolerance * rhs.norm();
+    d.setZero(rhs.size());
+    Eigen::VectorXd r = rhs, z = factor_->llt.solve(r), p = z, Hp(rhs.size());
+    double rz = r.dot(z);
+    for (int k = 0; k < options_.max_cg_iterations; ++k) {
+        if (r.norm() <= target) return true;
+        Hp.noalias() = H * p;
+        const double pHp = p.dot(Hp);
+        if (!(pHp > 0)) return false;
+        const double a = rz / pHp;
+        d += a * p;
+        r -= a * Hp;
+        ++cg_iterations_;
+        z = factor_->llt.solve(r);
+        const double rz_next = r.dot(z);
+        p = z + (rz_next / rz) * p;
+        rz = rz_next;
+    }
+    return r.norm() <= target;
+}
+
+void NewtonLinearSolver::solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)
+{
+    if (factor_->analysed && preconditioned_cg(H, rhs, d)) return;
+    factorize(H);
+    d = factor_->llt.solve(rhs);
+}
+
+void set_blas_threads(int threads)
+{
+    // OpenBLAS reads its thread count at load time; its setter is looked up at run time so that
+    // any BLAS works.
+    using Setter = void (*)(int);
+    if (auto setter = reinterpret_cast<Setter>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) setter(threads);
+}
+
+}  // namespace woven::sim
