@@ -98,6 +98,7 @@ nlohmann::json drape_report(const DrapeReportInput& in)
     j["solver"] = in.solver->kind == sim::SolverKind::FAST ? "fast" : "paper";
     j["seed"] = in.solver->seed;
     j["threads"] = in.solver->threads;
+    j["friction"] = in.solver->friction;
     j["max_steps"] = in.solver->max_steps;
     j["converged"] = r.converged;
     j["interrupted"] = in.interrupted || r.interrupted;

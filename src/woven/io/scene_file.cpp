@@ -417,7 +417,7 @@ std::unique_ptr<geometry::Obstacle> parse_obstacle(const Reader& r, const toml::
 void parse_solver(const Reader& r, const toml::table& t, sim::SolverOptions& o)
 {
     r.warn_unknown(t, "solver.", {"kind", "seed", "max_steps", "residual_tolerance", "move_tolerance_m", "time_step_s",
-                                  "contact_distance_m", "viscosity_per_s", "threads"});
+                                  "contact_distance_m", "viscosity_per_s", "friction", "threads"});
     o.kind = r.choice(t, "kind", "solver.kind", "fast", {"fast", "paper"}) == "paper" ? sim::SolverKind::PAPER
                                                                                       : sim::SolverKind::FAST;
     o.seed = static_cast<std::uint64_t>(r.integer(t, "seed", "solver.seed", static_cast<long long>(o.seed), 0,
@@ -428,6 +428,7 @@ void parse_solver(const Reader& r, const toml::table& t, sim::SolverOptions& o)
     o.time_step = r.positive(t, "time_step_s", "solver.time_step_s", o.time_step);
     o.contact_distance = r.positive(t, "contact_distance_m", "solver.contact_distance_m", o.contact_distance);
     o.viscosity = r.non_negative(t, "viscosity_per_s", "solver.viscosity_per_s", o.viscosity);
+    o.friction = r.non_negative(t, "friction", "solver.friction", o.friction);
     o.threads = static_cast<int>(r.integer(t, "threads", "solver.threads", o.threads, 0, 4096));
 }
 

@@ -27,6 +27,46 @@ double Barrier::d2(double d) const
     return -kappa * (2.0 * std::log(d / d_hat) + 4.0 * e / d - e * e / (d * d));
 }
 
+namespace {
+/// f1 = f0' of the smoothed slip norm: 2y/eps - y^2/eps^2 below eps, 1 beyond.
+double slip_f1(double y, double eps) { return y >= eps ? 1.0 : y / eps * (2.0 - y / eps); }
+}  // namespace
+
+double FrictionContact::value(const Vec3& x, double eps) const
+{
+    const double y = (tangent * (x - anchor)).norm();
+    const double f0 = y >= eps ? y : y * y / eps - y * y * y / (3.0 * eps * eps) + eps / 3.0;
+    return bound * f0;
+}
+
+Vec3 FrictionContact::gradient(const Vec3& x, double eps) const
+{
+    const Vec3 u = tangent * (x - anchor);
+    const double y = u.norm();
+    if (y == 0) return Vec3::Zero();
+    return bound * slip_f1(y, eps) / y * u;
+}
+
+Mat3 FrictionContact::hessian(const Vec3& x, double eps) const
+{
+    // The exact Hessian adds a negative rank-one term along u; dropping it keeps it PSD.
+    const double y = (tangent * (x - anchor)).norm();
+    const double f1_over_y = y >= eps ? 1.0 / y : (2.0 - y / eps) / eps;
+    return bound * f1_over_y * tangent;
+}
+
+std::vector<FrictionContact> friction_contacts(const std::vector<Contact>& contacts, const Positions& x, const Barrier& barrier, double mu)
+{
+    std::vector<FrictionContact> out;
+    if (mu <= 0) return out;
+    for (const Contact& c : contacts) {
+        const double lambda = -barrier.d1(c.distance);
+        if (lambda <= 0) continue;
+        out.push_back({c.particle, x[c.particle], Mat3::Identity() - c.normal * c.normal.transpose(), mu * lambda});
+    }
+    return out;
+}
+
 std::vector<Contact> find_contacts(const geometry::ObstacleSet& obstacles, const Positions& x, double d_hat)
 {
     std::vector<Contact> contacts;

@@ -26,8 +26,27 @@ struct Contact {
     Vec3 normal;          ///< outward unit normal of the obstacle at the closest point
 };
 
+/// Lagged Coulomb friction of one contact over a step (incremental-potential friction, Li et al.
+/// 2020): with the normal force lambda and the tangent plane frozen at the step's start, the
+/// tangential slip u = T (x - anchor) costs D(u) = mu lambda f0(|u|), where f0 is |u| smoothed
+/// below eps (C1): the friction force grows from 0 to mu lambda over a slip of eps (sticking)
+/// and is mu lambda beyond (sliding).
+struct FrictionContact {
+    int particle = 0;
+    Vec3 anchor;     ///< the particle's position at the step's start
+    Mat3 tangent;    ///< I - n n^T
+    double bound = 0;  ///< mu lambda (N): the largest friction force
+    /// D, dD/dx and a PSD Hessian (mu lambda f1(y)/y T) at x, for slip smoothing eps (m).
+    double value(const Vec3& x, double eps) const;
+    Vec3 gradient(const Vec3& x, double eps) const;
+    Mat3 hessian(const Vec3& x, double eps) const;
+};
+
 /// Contacts of all particles closer than `d_hat` to any obstacle (one per particle and obstacle).
 std::vector<Contact> find_contacts(const geometry::ObstacleSet& obstacles, const Positions& x, double d_hat);
+
+/// Friction contacts at the start of a step: one per barrier contact, with lambda = -b'(d).
+std::vector<FrictionContact> friction_contacts(const std::vector<Contact>& contacts, const Positions& x, const Barrier& barrier, double mu);
 
 /// Smallest distance of any particle to any obstacle (m); +inf without obstacles.
 double min_obstacle_distance(const geometry::ObstacleSet& obstacles, const Positions& x);

@@ -30,19 +30,24 @@ double max_displacement(const Positions& x, const Positions& y)
 }
 
 double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
-                             const std::vector<int>& pinned, double contact_distance)
+                             const std::vector<int>& pinned, double contact_distance, double friction)
 {
     const Eigen::VectorXd g = model.gradient(x);
     std::vector<Vec3, Eigen::aligned_allocator<Vec3>> force(x.size());
     for (size_t i = 0; i < x.size(); ++i) force[i] = -g.segment<3>(3 * i);
     // An obstacle can push: a particle within the contact distance carries any outward normal
-    // reaction, so the inward normal part of its force is not a residual (no friction).
+    // reaction, so the inward normal part of its force is not a residual; with friction, nor is
+    // a tangential part up to mu times that reaction.
     for (size_t o = 0; o < obstacles.size(); ++o)
         for (size_t i = 0; i < x.size(); ++i) {
             if (obstacles[o].distance(x[i]) >= contact_distance) continue;
             const Vec3 n = obstacles[o].closest(x[i]).normal;
             const double fn = force[i].dot(n);
-            if (fn < 0) force[i] -= fn * n;
+            if (fn >= 0) continue;
+            force[i] -= fn * n;
+            // Friction holds up to mu times the normal reaction -fn.
+            const double ft = force[i].norm();
+            force[i] *= ft > 0 ? std::max(0.0, ft + friction * fn) / ft : 0.0;
         }
     std::vector<char> is_pinned(x.size(), 0);
     for (int p : pinned) is_pinned.at(p) = 1;

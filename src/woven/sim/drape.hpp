@@ -29,6 +29,7 @@ struct SolverOptions {
     double time_step = 1.0 / 60.0;     ///< first time step (s); the fast solver grows it as the cloth settles
     double contact_distance = 1e-3;    ///< barrier activation distance d^ (m)
     double viscosity = 2.0;            ///< paper solver: drag coefficient of the viscous medium (1/s)
+    double friction = 0.0;             ///< fast solver: Coulomb friction coefficient cloth-obstacle (0: none, as the paper)
     int threads = 0;                   ///< 0: all cores
 };
 
@@ -56,7 +57,8 @@ struct Equilibrium {
     double max_move = 0;          ///< m, over the last step
     double max_residual_rel = 0;  ///< largest |F_i| / (m g) over free particles (g: standard gravity when the
                                   ///< model has none); obstacles may push (a particle
-                                  ///< within the contact distance may carry any outward normal reaction)
+                                  ///< within the contact distance may carry any outward normal reaction,
+                                  ///< and with friction a tangential one up to mu times it)
 };
 
 struct Result {
@@ -79,8 +81,9 @@ Result drape(const Problem& problem, const SolverOptions& options, const Progres
 /// Largest |x_i - y_i| over particles (m).
 double max_displacement(const Positions& x, const Positions& y);
 
-/// Largest residual force on a free particle relative to its weight (see Equilibrium).
+/// Largest residual force on a free particle relative to its weight (see Equilibrium). With
+/// friction mu, an obstacle also holds a tangential force up to mu times its normal reaction.
 double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
-                             const std::vector<int>& pinned, double contact_distance);
+                             const std::vector<int>& pinned, double contact_distance, double friction = 0.0);
 
 }  // namespace woven::sim

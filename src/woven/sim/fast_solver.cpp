@@ -31,6 +31,10 @@ struct FastSolver {
     std::vector<char> pinned;
     double mass, weight;
     Barrier barrier;
+    std::vector<FrictionContact> friction;  ///< frozen at the step's start
+    /// Friction smoothing: a contact sticks (force below mu lambda) while it slips less than
+    /// this over a step. Much smaller makes the potential too sharp for Newton.
+    static constexpr double slip_eps = 1e-4;  // m
 
     FastSolver(const Problem& problem, const SolverOptions& o)
         : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem))
@@ -53,6 +57,7 @@ struct FastSolver {
                 if (d < barrier.d_hat) phi += barrier.value(d);
                 if (!std::isfinite(phi)) return kInf;
             }
+        for (const FrictionContact& f : friction) phi += f.value(x[f.particle], slip_eps);
         phi += model.energy(x);
         return std::isfinite(phi) ? phi : kInf;
     }
@@ -65,6 +70,7 @@ struct FastSolver {
         for (size_t i = 0; i < x.size(); ++i) system.add_particle(static_cast<int>(i), inertia, mass * inv_h2 * (x[i] - x_tilde[i]));
         for (const Contact& c : find_contacts(obstacles, x, barrier.d_hat))
             system.add_particle(c.particle, barrier.d2(c.distance) * c.normal * c.normal.transpose(), barrier.d1(c.distance) * c.normal);
+        for (const FrictionContact& f : friction) system.add_particle(f.particle, f.hessian(x[f.particle], slip_eps), f.gradient(x[f.particle], slip_eps));
         system.finish();
     }
 };
@@ -110,6 +116,9 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         x_prev = x;
         const double inv_h2 = 1.0 / (h * h);
         for (int i = 0; i < n; ++i) x_tilde[i] = solver.pinned[i] ? x[i] : Vec3(x[i] + h * v[i]);
+        if (options.friction > 0) {
+            solver.friction = friction_contacts(find_contacts(solver.obstacles, x, solver.barrier.d_hat), x, solver.barrier, options.friction);
+        }
         double phi = solver.incremental_potential(x, x_tilde, inv_h2);
         int iterations = 0;
         bool newton_converged = false;
@@ -165,7 +174,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         result.simulated_time += h;
         result.steps = step;
         result.equilibrium.max_move = max_displacement(x, x_prev);
-        result.equilibrium.max_residual_rel = max_residual_relative(model, solver.obstacles, x, problem.pinned, options.contact_distance);
+        result.equilibrium.max_residual_rel = max_residual_relative(model, solver.obstacles, x, problem.pinned, options.contact_distance, options.friction);
         const bool at_rest = result.equilibrium.max_residual_rel < options.residual_tolerance;
         if (progress) {
             const StepInfo info{step, result.simulated_time, model.energy(x), result.equilibrium.max_move, result.equilibrium.max_residual_rel};
