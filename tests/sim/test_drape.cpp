@@ -18,6 +18,15 @@ sim::Result run(const model::ClothModel& m, const ObstacleSet& obstacles, const 
     return sim::drape(problem, o);
 }
 
+/// The paper's Sec. 6 obstacles: a floor and a 0.5 m cube standing on it.
+ObstacleSet floor_and_cube()
+{
+    ObstacleSet obstacles;
+    obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ()));
+    obstacles.add(std::make_unique<geometry::Box>(Vec3(0, 0, 0.25), Vec3(0.25, 0.25, 0.25)));
+    return obstacles;
+}
+
 TEST(FastSolver, FreeSheetWithoutGravityStaysFlatAndAtRest)
 {
     const model::Grid grid = test::square_grid(9, 0.4);
@@ -90,9 +99,7 @@ TEST(FastSolver, CubeDrapeRestsOnTheCubeWithoutPenetration)
 {
     const model::Grid grid = test::square_grid(11, 1.0);
     const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
-    ObstacleSet obstacles;
-    obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ()));
-    obstacles.add(std::make_unique<geometry::Box>(Vec3(0, 0, 0.25), Vec3(0.25, 0.25, 0.25)));
+    const ObstacleSet obstacles = floor_and_cube();
     const Positions start = model::flat_grid(grid, Vec3(0, 0, 0.51));
     const sim::Result r = run(m, obstacles, start, {}, {});
     ASSERT_TRUE(r.converged);
@@ -109,9 +116,7 @@ TEST(FastSolver, SameInputSameResultBitForBit)
     // solver has no randomness, and its CG and factorisation sums run in a fixed order.
     const model::Grid grid = test::square_grid(9, 1.0);
     const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
-    ObstacleSet obstacles;
-    obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ()));
-    obstacles.add(std::make_unique<geometry::Box>(Vec3(0, 0, 0.25), Vec3(0.25, 0.25, 0.25)));
+    const ObstacleSet obstacles = floor_and_cube();
     const Positions start = model::flat_grid(grid, Vec3(0.05, 0.02, 0.51), 0.3);
     sim::SolverOptions o;
     o.friction = 0.3;
