@@ -4,7 +4,7 @@
 // CG preconditioned with a reused sparse Cholesky factorisation, see linear_solver.hpp) and a
 // backtracking line search that starts inside the collision-free fraction of the step (no
 // particle crosses an obstacle) and rejects any trial of infinite energy (trellis at 1.05 rad,
-// a thread folded flat, contact). The step h grows while Newton converges quickly, so the
+// a thread folded flat, contact). The step h doubles while Newton converges, so the
 // cloth first falls and swings (a physical path) and then settles; the run ends when the
 // largest residual force on a free particle is below the tolerance times its weight.
 #include <chrono>
@@ -98,7 +98,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
     const int n = model.grid().size();
     const double sigma = model.grid().sigma;
     const int max_steps = options.max_steps > 0 ? options.max_steps : 400;
-    constexpr int kMaxNewton = 40;
+    constexpr int kMaxNewton = 120;  // per step; a step that needs more is halved
     constexpr double kMaxStep = 20.0;       // s: the largest time step, effectively static
     constexpr double kStaticStep = 1.0;     // s: from here on steps are solved to the final tolerance
     constexpr double kDamping = 2.0;        // 1/s: viscous medium (as the paper's free fall)
@@ -187,9 +187,12 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             result.converged = true;
             break;
         }
-        // Grow the step while Newton converges easily; shrink it when it struggles.
-        if (newton_converged && iterations <= 15) h = std::min(2.0 * h, kMaxStep);
-        else if (!newton_converged) h = std::max(0.5 * h, 1e-4);
+        // Grow the step while Newton converges, shrink it when it does not: the cloth falls in
+        // short steps, and the steps lengthen (and damp more) as it settles. Growing only
+        // after easy solves (<= 15 iterations) took 2.5 times the Newton iterations on the
+        // 51 x 51 cube.
+        if (newton_converged) h = std::min(2.0 * h, kMaxStep);
+        else h = std::max(0.5 * h, 1e-4);
     }
     result.x = std::move(x);
     result.energy = model.evaluate(result.x);
