@@ -43,8 +43,20 @@ render::RenderMesh cloth_mesh(const Positions& x, const model::Grid& grid)
 render::Image render_drape(const Positions& x, const model::Grid& grid, const io::SceneSpec& scene, int width,
                            int height)
 {
+    // The picture gives the cloth a thickness: particles closer than 0.2 sigma to an obstacle
+    // are drawn lifted to 0.2 sigma, so that a curved surface (the chair's arms) does not show
+    // through the flat triangles between particles. The OBJ/PLY keep the computed positions.
+    Positions shown = x;
+    const double thickness = 0.2 * grid.sigma;
+    for (Vec3& p : shown)
+        for (std::size_t k = 0; k < scene.obstacles.size(); ++k) {
+            const geometry::Obstacle& o = scene.obstacles[k];
+            if (o.distance(p) >= thickness) continue;
+            const geometry::ClosestPoint c = o.closest(p);
+            p += (thickness - c.distance) * c.normal;
+        }
     std::vector<render::RenderMesh> meshes;
-    meshes.push_back(cloth_mesh(x, grid));
+    meshes.push_back(cloth_mesh(shown, grid));
     geometry::Aabb frame;
     for (const Vec3& p : x) frame.extend(p);
     for (std::size_t k = 0; k < scene.obstacles.size(); ++k) {
