@@ -152,6 +152,10 @@ TEST_P(ClosePairs, EqualBruteForce)
     const auto got = m.close_pairs(x);
     EXPECT_EQ(got, expected);
     EXPECT_GT(expected.size(), static_cast<size_t>(n));
+    // A larger search radius (the paper solver's margin) finds more pairs, again exactly.
+    const auto wider = brute_force_pairs(x, 1.7 * grid.sigma);
+    EXPECT_EQ(m.close_pairs(x, 1.7 * grid.sigma), wider);
+    EXPECT_GT(wider.size(), expected.size());
 }
 INSTANTIATE_TEST_SUITE_P(Crumpled, ClosePairs,
                          testing::Values(CrumpleCase{1, 6, 3.0, Vec3(0.1, 0.2, 0.3)}, CrumpleCase{2, 6, 2.0, Vec3(-0.5, -0.3, -0.01)},

@@ -158,12 +158,12 @@ Eigen::VectorXd ClothModel::gradient(const Positions& x) const
     return g;
 }
 
-std::vector<std::pair<int, int>> ClothModel::close_pairs(const Positions& x) const
+std::vector<std::pair<int, int>> ClothModel::close_pairs(const Positions& x, double radius) const
 {
-    // Spatial hash: cells of size sigma; particles sorted by cell key, an open-addressing table
+    // Spatial hash: cells of size radius; particles sorted by cell key, an open-addressing table
     // from key to the run of particles in that cell; each particle looks in the 27 cells around
     // its own.
-    const double h = spacing_.sigma;
+    const double h = radius > 0 ? radius : spacing_.sigma;
     const int n = static_cast<int>(x.size());
     auto cell_of = [&](const Vec3& p) {
         return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / h)), static_cast<int>(std::floor(p.y() / h)), static_cast<int>(std::floor(p.z() / h)));

@@ -76,8 +76,9 @@ public:
     /// Gradient dE/dx (N... J/m), 3n vector.
     Eigen::VectorXd gradient(const Positions& x) const;
 
-    /// Pairs i < j closer than sigma (the repulsion's support), by a spatial hash: O(n).
-    std::vector<std::pair<int, int>> close_pairs(const Positions& x) const;
+    /// Pairs i < j closer than `radius` (default: sigma, the repulsion's support), by a spatial
+    /// hash: O(n).
+    std::vector<std::pair<int, int>> close_pairs(const Positions& x, double radius = 0) const;
 
     const Grid& grid() const { return grid_; }
     double particle_mass() const { return mass_; }

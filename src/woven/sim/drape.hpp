@@ -26,7 +26,7 @@ struct SolverOptions {
     int max_steps = 0;              ///< 0: the solver's default (fast 400 steps, paper 200000)
     double residual_tolerance = 1e-3;  ///< equilibrium: largest residual force / (m g) on a free particle
     double move_tolerance = 1e-5;      ///< paper solver equilibrium: largest particle move per step (m)
-    double time_step = 1.0 / 60.0;     ///< first time step (s); the fast solver grows it as the cloth settles
+    double time_step = 1.0 / 60.0;     ///< first time step (s); the fast solver grows it as the cloth settles, the paper solver caps it (see paper_solver.cpp)
     double contact_distance = 1e-3;    ///< barrier activation distance d^ (m)
     double viscosity = 2.0;            ///< paper solver: drag coefficient of the viscous medium (1/s)
     double friction = 0.0;             ///< fast solver: Coulomb friction coefficient cloth-obstacle (0: none, as the paper)

@@ -1,54 +1,232 @@
 // The paper's three-phase step (Sec. 3, last paragraphs; House, Breen & Getto 1992):
 //   1. each particle falls freely under gravity in a viscous medium, with collisions against
-//      the obstacles (a particle stopped by a surface loses its inward normal velocity);
-//   2. a stochastic energy minimisation enforces the inter-particle energies. Our reading: a few
-//      sweeps that move every particle along its own (analytic, where the paper estimated it
-//      numerically) preconditioned gradient of E_int(x) + sum_i m/(2 dt^2) |x_i - x_i^(1)|^2,
-//      plus a seeded random perturbation proportional to the move (the paper's randomness,
-//      which escapes local minima and breaks symmetry); a sweep is kept only if it lowers that
-//      energy. The proximity term makes phase 2 a time step (its fixed point at rest is the
-//      static equilibrium of E_int + gravity) rather than a projection onto E_int's minimum;
+//      the obstacles (a particle stopped by a surface slides on, without friction, and loses its
+//      inward normal velocity);
+//   2. a stochastic energy minimisation enforces the inter-particle energies. Our reading of the
+//      paper's per-particle form: Gauss-Seidel sweeps in which each particle in turn moves along
+//      its own preconditioned gradient (analytic, where the paper estimated it numerically; the
+//      particle's 3x3 block of the projected Hessian as preconditioner) of
+//      E_int(x) + sum_i m/(2 dt^2) |x_i - x_i^(1)|^2, with collisions: a step that would reach an
+//      obstacle stops at it in the normal direction and keeps its tangential part (for a particle
+//      resting on a surface, a step in the tangent plane). A move is kept only if it lowers that
+//      energy (halved otherwise); sweeps alternate their order, revisit only particles near one
+//      that moved, and stop when none moves any more. The proximity term makes phase 2 a time
+//      step (its fixed point at rest is the static equilibrium of E_int + gravity) rather than a
+//      projection onto E_int's minimum.
+//      The randomness (which escapes local minima and breaks symmetry): in the first sweep a
+//      seeded perturbation proportional to the particle's movement over the last step, fading
+//      below 1 % of sigma. It has to vanish at rest: phase 3 turns any perturbation into velocity,
+//      and one of fixed size (or proportional to the step) keeps the cloth from ever settling;
 //   3. velocities are corrected by the motion of phase 2.
+// The step is options.time_step capped at sqrt(m / 4k), k the thread stiffness S'' at 1 % strain
+// (the strain C0 is chosen for): per-particle sweeps carry a disturbance along a thread about
+// as far per pass as the ratio of inertia m/dt^2 to k allows, so with m/dt^2 = 4k a step settles
+// in a few sweeps, where a larger step needs of the order of k dt^2 / m of them.
 // Equilibrium (Sec. 6): the largest particle movement between successive steps below a
-// threshold. Not fast: kept for reproduction and comparison.
+// threshold, for 10 steps and 0.1 s in a row. Not fast: kept for reproduction and comparison.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <random>
 
 #include <Eigen/Cholesky>
 
-#include "woven/common/error.hpp"
-#include "woven/sim/assembly.hpp"
-#include "woven/sim/contact.hpp"
+#include "woven/model/stencils.hpp"
 #include "woven/sim/solvers.hpp"
 
 namespace woven::sim::detail {
 
 namespace {
 
-/// Moves particle positions by dx with collision handling: a particle whose path meets an
-/// obstacle stops at the contact point lifted to `clearance` along the normal; a particle
-/// that ends closer than `clearance` is lifted to it. Returns per-particle "stopped" flags.
-std::vector<char> move_with_collisions(const geometry::ObstacleSet& obstacles, Positions& x, const Positions& dx, double clearance,
-                                       std::vector<Vec3, Eigen::aligned_allocator<Vec3>>* normals)
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// Moves one particle from p by d with collision handling (no friction, as the model has none):
+/// a path that meets an obstacle stops at the contact point, lifted to `clearance` along the
+/// normal, and goes on with the rest of the move less its inward normal part (sliding); a
+/// particle ending closer than `clearance` is lifted to it. Returns whether an obstacle stopped
+/// it, and the last contact's normal in `normal`.
+bool move_particle(const geometry::ObstacleSet& obstacles, Vec3& p, Vec3 d, double clearance, Vec3* normal)
 {
-    std::vector<char> stopped(x.size(), 0);
-    for (size_t i = 0; i < x.size(); ++i) {
-        Vec3 target = x[i] + dx[i];
-        for (size_t o = 0; o < obstacles.size(); ++o) {
-            const geometry::Obstacle& ob = obstacles[o];
-            if (auto t = ob.first_contact(x[i], target)) target = x[i] + *t * (target - x[i]);
-            const geometry::ClosestPoint c = ob.closest(target);
-            if (c.distance < clearance) {
-                target = c.point + clearance * c.normal;
-                stopped[i] = 1;
-                if (normals) (*normals)[i] = c.normal;
-            }
+    bool stopped = false;
+    for (int contact = 0; contact < 3 && d.squaredNorm() > 0; ++contact) {
+        const std::optional<double> t = obstacles.first_contact(p, p + d);
+        if (!t) break;
+        const geometry::ClosestPoint c = obstacles.closest(p + *t * d);
+        p = c.point + clearance * c.normal;
+        d *= 1.0 - *t;
+        d -= std::min(0.0, d.dot(c.normal)) * c.normal;
+        stopped = true;
+        if (normal) *normal = c.normal;
+    }
+    p += d;
+    for (size_t o = 0; o < obstacles.size(); ++o) {
+        const geometry::ClosestPoint c = obstacles[o].closest(p);
+        if (c.distance < clearance) {
+            p = c.point + clearance * c.normal;
+            stopped = true;
+            if (normal) *normal = c.normal;
         }
-        x[i] = target;
     }
     return stopped;
 }
+
+/// The terms of the inter-particle energy E_int (cloth_model.hpp, all but gravity, which phase 1
+/// applies) whose value depends on one particle p, with p's gradient and the p-p block of the
+/// projected Hessian (the Gauss-Newton choices of ClothModel::evaluate with PROJECTED). When p
+/// alone moves, this local energy changes as E_int does, which lets phase 2 move particles one at
+/// a time.
+class ParticleEnergy {
+public:
+    explicit ParticleEnergy(const model::ClothModel& model) : model_(model), grid_(model.grid()) { }
+
+    /// Repulsion partners: the 4-connected neighbours (which also carry stretching), the diagonal
+    /// ones (within sigma under large shear) and `close`.
+    void set_pairs(const std::vector<std::pair<int, int>>& close)
+    {
+        const int n = grid_.size();
+        links_.clear();
+        for (int j = 0; j < grid_.nv; ++j)
+            for (int i = 0; i < grid_.nu; ++i) {
+                const int p = grid_.index(i, j);
+                if (i + 1 < grid_.nu) add_link(p, grid_.index(i + 1, j), true);
+                if (j + 1 < grid_.nv) add_link(p, grid_.index(i, j + 1), true);
+                if (i + 1 < grid_.nu && j + 1 < grid_.nv) add_link(p, grid_.index(i + 1, j + 1), false);
+                if (i > 0 && j + 1 < grid_.nv) add_link(p, grid_.index(i - 1, j + 1), false);
+            }
+        for (const auto& [p, q] : close) add_link(p, q, false);
+        // Sort by particle and partner; a thread link sorts first and so survives unique().
+        std::sort(links_.begin(), links_.end(), [](const Link& a, const Link& b) {
+            return a.p != b.p ? a.p < b.p : a.q != b.q ? a.q < b.q : a.thread > b.thread;
+        });
+        links_.erase(std::unique(links_.begin(), links_.end(), [](const Link& a, const Link& b) { return a.p == b.p && a.q == b.q; }),
+                     links_.end());
+        first_.assign(n + 1, 0);
+        for (const Link& l : links_) ++first_[l.p + 1];
+        for (int p = 0; p < n; ++p) first_[p + 1] += first_[p];
+    }
+
+    /// Calls f(q) for every particle q that shares a term with p (its energy's gradient moves when p does).
+    template <class F> void for_each_neighbour(int p, F f) const
+    {
+        for (int k = first_[p]; k < first_[p + 1]; ++k) f(links_[k].q);
+        const int i = p % grid_.nu, j = p / grid_.nu;
+        if (i >= 2) f(p - 2);
+        if (i + 2 < grid_.nu) f(p + 2);
+        if (j >= 2) f(p - 2 * grid_.nu);
+        if (j + 2 < grid_.nv) f(p + 2 * grid_.nu);
+    }
+
+    double value(const Positions& x, int p) const { return terms<false>(x, p, nullptr, nullptr); }
+    /// Value; gradient and Hessian block are written to g and H.
+    double derivatives(const Positions& x, int p, Vec3& g, Mat3& H) const
+    {
+        g.setZero();
+        H.setZero();
+        return terms<true>(x, p, &g, &H);
+    }
+
+private:
+    struct Link {
+        int p, q;
+        bool thread;  ///< 4-connected: stretching as well as repulsion
+    };
+    void add_link(int p, int q, bool thread)
+    {
+        links_.push_back({p, q, thread});
+        links_.push_back({q, p, thread});
+    }
+
+    template <bool kDerivatives> double terms(const Positions& x, int p, Vec3* g, Mat3* H) const
+    {
+        const int nu = grid_.nu, nv = grid_.nv, i = p % nu, j = p / nu;
+        const model::ThreadSpacing& spacing = model_.spacing();
+        double e = 0;
+
+        // Repulsion (Eq. 2, 4) and stretching (Eq. 3, 5).
+        for (int k = first_[p]; k < first_[p + 1]; ++k) {
+            const Link& l = links_[k];
+            const Vec3 d = x[p] - x[l.q];
+            const double r = d.norm();
+            model::Scalar3 f;
+            if (r < spacing.sigma)
+                f = spacing.repulsion(r);
+            else if (l.thread && r > spacing.sigma)
+                f = spacing.stretch(r);
+            else
+                continue;
+            if (!std::isfinite(f.value)) return kInfinity;
+            e += f.value;
+            if constexpr (kDerivatives) {
+                const Vec3 n = d / r;
+                const Mat3 nn = n * n.transpose();
+                *g += f.d1 * n;
+                *H += std::max(f.d2, 0.0) * nn + std::max(f.d1 / r, 0.0) * (Mat3::Identity() - nn);
+            }
+        }
+
+        // c = cos(angle between a and b) as model::cosine_between, and for particle p, which
+        // enters a and b with coefficients al and be (model/stencils.hpp), dc/dx_p in gc and
+        // the unit-vector projector M = al P_a + be P_b, whose square is p's block of
+        // model::bending_gauss_newton.
+        auto cosine = [](const Vec3& a, const Vec3& b, double al, double be, Vec3* gc, Mat3* M) {
+            const double A = a.norm(), B = b.norm();
+            const Vec3 ah = a / A, bh = b / B;
+            const double c = ah.dot(bh);
+            if constexpr (kDerivatives) {
+                *gc = al * (bh - c * ah) / A + be * (ah - c * bh) / B;
+                if (M) *M = al / A * (Mat3::Identity() - ah * ah.transpose()) + be / B * (Mat3::Identity() - bh * bh.transpose());
+            }
+            return c;
+        };
+        Vec3 gc;
+        Mat3 M;
+
+        // Bending (Eq. 7, 12, 13) of the angles at p and at its thread neighbours; `role` is p's
+        // place in the stencil (0, 1 middle, 2). Projected Hessian as in ClothModel::evaluate.
+        auto bend = [&](const model::BendingEnergy& energy, int p0, int p1, int p2, int role) {
+            const double c = cosine(x[p0] - x[p1], x[p2] - x[p1], model::kBendingStencil.alpha[role], model::kBendingStencil.beta[role], &gc, &M);
+            const model::Scalar3 f = energy.of_cosine(c);
+            if (!std::isfinite(f.value)) return false;
+            e += f.value;
+            if constexpr (kDerivatives) {
+                *g += f.d1 * gc;
+                *H += std::max(f.d2, 0.0) * gc * gc.transpose() + std::max(f.d1, 0.0) * M * M;
+            }
+            return true;
+        };
+        for (int c = j - 1; c <= j + 1; ++c)  // warp angles at (i, c), along j
+            if (c >= 1 && c + 1 < nv && !bend(model_.bending_warp(), grid_.index(i, c - 1), grid_.index(i, c), grid_.index(i, c + 1), j - c + 1))
+                return kInfinity;
+        for (int c = i - 1; c <= i + 1; ++c)  // weft angles at (c, j), along i
+            if (c >= 1 && c + 1 < nu && !bend(model_.bending_weft(), grid_.index(c - 1, j), grid_.index(c, j), grid_.index(c + 1, j), i - c + 1))
+                return kInfinity;
+
+        // Trellising (Eq. 8, 15) at the interior 4-connected neighbours k of p; p is k's left,
+        // right, lower or upper particle (role 0..3, stencil order L R D U).
+        const int around[4][3] = {{i + 1, j, 0}, {i - 1, j, 1}, {i, j + 1, 2}, {i, j - 1, 3}};
+        for (const auto& [ki, kj, role] : around) {
+            if (ki < 1 || kj < 1 || ki + 1 >= nu || kj + 1 >= nv) continue;
+            const Vec3 u = x[grid_.index(ki + 1, kj)] - x[grid_.index(ki - 1, kj)];
+            const Vec3 v = x[grid_.index(ki, kj + 1)] - x[grid_.index(ki, kj - 1)];
+            const double c = cosine(u, v, model::kTrellisStencil.alpha[role], model::kTrellisStencil.beta[role], &gc, nullptr);
+            const model::Scalar3 f = model_.trellis().of_cosine(c);
+            if (!std::isfinite(f.value)) return kInfinity;
+            e += f.value;
+            if constexpr (kDerivatives) {
+                *g += f.d1 * gc;
+                *H += std::max(f.d2, 0.0) * gc * gc.transpose();
+            }
+        }
+        return e;
+    }
+
+    const model::ClothModel& model_;
+    model::Grid grid_;
+    std::vector<Link> links_;
+    std::vector<int> first_;  ///< links_ of particle p: [first_[p], first_[p + 1])
+};
 
 }  // namespace
 
@@ -58,94 +236,114 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
     const model::ClothModel& model = *problem.model;
     const geometry::ObstacleSet& obstacles = *problem.obstacles;
     const int n = model.grid().size();
+    const double sigma = model.grid().sigma;
     const std::vector<char> pinned = pinned_mask(problem);
-    const double dt = options.time_step, mass = model.particle_mass(), g = model.gravity();
+    const double mass = model.particle_mass(), g = model.gravity();
+    const double stiffness = model.spacing().stretch(1.01 * sigma).d2;  // S'' at 1 % strain
+    const double dt = stiffness > 0 ? std::min(options.time_step, std::sqrt(mass / (4.0 * stiffness))) : options.time_step;
     const double inertia = mass / (dt * dt);
     const double clearance = 0.5 * options.contact_distance;
     const int max_steps = options.max_steps > 0 ? options.max_steps : 200000;
-    constexpr int kMaxSweeps = 60;     // phase 2 stops earlier when a sweep moves no particle by more than kSweepTolerance
+    constexpr int kMaxSweeps = 60;  // phase 2 stops earlier when a sweep moves no particle by more than kSweepTolerance
     const double kSweepTolerance = 0.02 * options.move_tolerance;
-    constexpr double kNoise = 0.1;       // random perturbation relative to each particle's move
-    constexpr int kCalmSteps = 10;       // equilibrium: movement below threshold this many steps in a row
+    constexpr double kNoise = 0.1;           // random perturbation relative to each particle's movement over the last step
+    const double kNoiseFade = 0.01 * sigma;  // below this movement per step the perturbation fades (quadratically)
+    constexpr double kPairMargin = 1.1;      // repulsion partners: pairs closer than kPairMargin sigma at the start of phase 2
+    // Equilibrium (Sec. 6): movement below the threshold this many steps in a row, and over at
+    // least kCalmTime: with a small step, a cloth released from rest moves less than the
+    // threshold per step for its first steps.
+    constexpr int kCalmSteps = 10;
+    constexpr double kCalmTime = 0.1;  // s
+    const int calm_steps = std::max(kCalmSteps, static_cast<int>(std::ceil(kCalmTime / dt)));
 
     std::mt19937_64 rng(options.seed);
     std::normal_distribution<double> normal(0.0, 1.0 / std::sqrt(3.0));
 
     Result result;
-    Positions x = problem.initial, v(n, Vec3::Zero()), x1(n), dx(n), step_dx(n), trial(n), x_prev;
-    std::vector<Vec3, Eigen::aligned_allocator<Vec3>> normals(n);
-    DiagonalAssembly diag(n);
+    Positions x = problem.initial, v(n, Vec3::Zero()), x1(n), x_prev;
+    std::vector<double> last_move(n);
+    std::vector<char> active(n), next(n);
+    ParticleEnergy local(model);
     int calm = 0;
 
-    // Phase-2 objective: inter-particle energy (no gravity) + proximity to the phase-1 positions.
-    auto phase2_energy = [&](const Positions& y) {
-        const model::EnergyTerms e = model.evaluate(y);
-        double phi = e.total() - e.gravity;
-        for (int i = 0; i < n; ++i) phi += 0.5 * inertia * (y[i] - x1[i]).squaredNorm();
-        return phi;
+    // One particle's move in phase 2: a Newton step on its own energy (preconditioned gradient),
+    // stopped at the nearest obstacle, plus the random perturbation; halved until the phase-2
+    // energy decreases. Returns how far it moved.
+    auto relax = [&](int p, bool perturb) {
+        Vec3 grad;
+        Mat3 H;
+        const Vec3 from = x[p];
+        const double e0 = local.derivatives(x, p, grad, H) + 0.5 * inertia * (from - x1[p]).squaredNorm();
+        grad += inertia * (from - x1[p]);
+        H += inertia * Mat3::Identity();
+        const Eigen::LDLT<Mat3> solver(H);
+        Vec3 d = -solver.solve(grad);
+        // A step that would reach the nearest obstacle's surface (planar near the particle) stops
+        // there in the normal direction: the minimiser of the local quadratic model on n.d = -gap,
+        // which for a particle resting on the obstacle is the step in the tangent plane (the
+        // obstacle carries the normal part of its force: no friction).
+        const geometry::ClosestPoint c = obstacles.closest(from);
+        const double gap = std::max(0.0, c.distance - clearance);
+        if (d.dot(c.normal) < -gap) {
+            const Vec3 Hn = solver.solve(c.normal);
+            d -= (gap + d.dot(c.normal)) / c.normal.dot(Hn) * Hn;
+        }
+        if (perturb) d += kNoise * last_move[p] * std::min(1.0, last_move[p] / kNoiseFade) * Vec3(normal(rng), normal(rng), normal(rng));
+        for (double alpha = 1.0; alpha > 1e-3; alpha *= 0.5) {
+            Vec3 to = from;
+            move_particle(obstacles, to, alpha * d, clearance, nullptr);
+            x[p] = to;
+            if (local.value(x, p) + 0.5 * inertia * (to - x1[p]).squaredNorm() < e0) return (to - from).norm();
+        }
+        x[p] = from;
+        return 0.0;
     };
 
     for (int step = 1; step <= max_steps; ++step) {
         x_prev = x;
-        // Phase 1: free fall in a viscous medium, with collisions.
+        // Phase 1 (Sec. 3): free fall in a viscous medium, with collisions.
         const double drag = std::exp(-options.viscosity * dt);
-        for (int i = 0; i < n; ++i) {
-            v[i] = pinned[i] ? Vec3::Zero() : Vec3(drag * v[i] + Vec3(0, 0, -g * dt));
-            dx[i] = v[i] * dt;
-        }
         x1 = x;
-        const std::vector<char> stopped = move_with_collisions(obstacles, x1, dx, clearance, &normals);
-        for (int i = 0; i < n; ++i)
-            if (stopped[i]) v[i] -= std::min(0.0, v[i].dot(normals[i])) * normals[i];
+        for (int i = 0; i < n; ++i) {
+            last_move[i] = v[i].norm() * dt;  // the step's motion (phase 3 sets v to it)
+            v[i] = pinned[i] ? Vec3::Zero() : Vec3(drag * v[i] + Vec3(0, 0, -g * dt));
+            Vec3 normal_i;
+            if (move_particle(obstacles, x1[i], v[i] * dt, clearance, &normal_i)) v[i] -= std::min(0.0, v[i].dot(normal_i)) * normal_i;
+        }
 
-        // Phase 2: stochastic minimisation of the inter-particle energy.
-        Positions x2 = x1;
-        double phi = phase2_energy(x2);
+        // Phase 2: stochastic minimisation of the inter-particle energy plus proximity to x1,
+        // particle by particle (Gauss-Seidel), sweeps alternating forward and backward; after
+        // the first sweep only particles near one that moved are visited again.
+        // Repulsion partners: pairs closer than kPairMargin sigma, a margin for the moves of phase 2.
+        local.set_pairs(model.close_pairs(x1, kPairMargin * model.grid().sigma));
+        x = x1;
         int sweeps = 0;
-        for (int sweep = 0; sweep < kMaxSweeps; ++sweep, ++sweeps) {
-            diag.clear();
-            model.evaluate(x2, model::Derivatives::PROJECTED, &diag);
-            for (int i = 0; i < n; ++i) {
-                if (pinned[i]) {
-                    dx[i].setZero();
-                    continue;
-                }
-                const Vec3 grad = diag.gradient[i] - Vec3(0, 0, mass * g) + inertia * (x2[i] - x1[i]);
-                const Mat3 H = diag.diagonal[i] + inertia * Mat3::Identity();
-                dx[i] = -H.ldlt().solve(grad);
-                if (sweep == 0) {  // the random perturbation; later sweeps settle it
-                    const double len = dx[i].norm();
-                    dx[i] += kNoise * len * Vec3(normal(rng), normal(rng), normal(rng));
-                }
+        for (int i = 0; i < n; ++i) active[i] = !pinned[i];
+        for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+            ++sweeps;
+            bool moved = false;
+            std::fill(next.begin(), next.end(), 0);
+            for (int s = 0; s < n; ++s) {
+                const int p = sweep % 2 == 0 ? s : n - 1 - s;
+                if (!active[p]) continue;
+                if (relax(p, sweep == 0) <= kSweepTolerance) continue;
+                moved = true;
+                next[p] = 1;
+                local.for_each_neighbour(p, [&](int q) { next[q] = active[q] = !pinned[q]; });
             }
-            bool accepted = false;
-            double sweep_move = 0;
-            for (double alpha = 1.0; alpha > 1e-3; alpha *= 0.5) {
-                trial = x2;
-                for (int i = 0; i < n; ++i) step_dx[i] = alpha * dx[i];
-                move_with_collisions(obstacles, trial, step_dx, clearance, nullptr);
-                const double phi_trial = phase2_energy(trial);
-                if (phi_trial < phi) {
-                    sweep_move = max_displacement(trial, x2);
-                    x2.swap(trial);
-                    phi = phi_trial;
-                    accepted = true;
-                    break;
-                }
-            }
-            if (!accepted || sweep_move < kSweepTolerance) break;
+            if (!moved) break;
+            active.swap(next);
         }
         // Phase 3: velocity correction for the motion of phase 2.
-        for (int i = 0; i < n; ++i) v[i] = pinned[i] ? Vec3::Zero() : Vec3(v[i] + (x2[i] - x1[i]) / dt);
-        x.swap(x2);
+        for (int i = 0; i < n; ++i) v[i] = pinned[i] ? Vec3::Zero() : Vec3(v[i] + (x[i] - x1[i]) / dt);
 
         result.steps = step;
         result.iterations += sweeps;
         result.simulated_time += dt;
         result.equilibrium.max_move = max_displacement(x, x_prev);
         calm = result.equilibrium.max_move < options.move_tolerance ? calm + 1 : 0;
-        const bool report = progress && (step % 50 == 0 || calm >= kCalmSteps);
-        if (report || calm >= kCalmSteps)
+        const bool report = progress && (step % 50 == 0 || calm >= calm_steps);
+        if (report || calm >= calm_steps)
             result.equilibrium.max_residual_rel = max_residual_relative(model, obstacles, x, problem.pinned, options.contact_distance);
         if (report) {
             const StepInfo info{step, result.simulated_time, model.energy(x), result.equilibrium.max_move, result.equilibrium.max_residual_rel};
@@ -154,7 +352,7 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
                 break;
             }
         }
-        if (calm >= kCalmSteps) {
+        if (calm >= calm_steps) {
             result.converged = true;
             break;
         }
