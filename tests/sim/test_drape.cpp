@@ -27,6 +27,21 @@ ObstacleSet floor_and_cube()
     return obstacles;
 }
 
+/// Largest distance between a particle and the image of its partner under a 90-degree rotation
+/// about z (which maps particle (i, j) of a square grid to (n-1-j, i)), m.
+double four_fold_asymmetry(const model::Grid& grid, const Positions& x)
+{
+    const int n = grid.nu;
+    double worst = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const Vec3& a = x[grid.index(i, j)];
+            const Vec3& b = x[grid.index(n - 1 - j, i)];
+            worst = std::max(worst, (Vec3(-a.y(), a.x(), a.z()) - b).norm());
+        }
+    return worst;
+}
+
 TEST(FastSolver, FreeSheetWithoutGravityStaysFlatAndAtRest)
 {
     const model::Grid grid = test::square_grid(9, 0.4);
@@ -84,15 +99,45 @@ TEST(FastSolver, DrapeOverCentredSphereHasFourFoldSymmetryAndNoPenetration)
     EXPECT_LT(r.energy.total(), m.energy(start));
     // No particle inside an obstacle by more than 0.1 mm.
     EXPECT_GT(sim::min_obstacle_distance(obstacles, r.x), -1e-4);
-    // Rotation by 90 degrees about z maps particle (i, j) to (n-1-j, i).
+    EXPECT_LT(four_fold_asymmetry(grid, r.x), 1e-4) << "m";
+}
+
+TEST(PaperSolver, DrapeOverCentredSphereIsFourFoldSymmetricUpToItsNoise)
+{
+    // The fast solver's sphere test with a 0.2 m cloth on a 7 x 7 grid. The paper solver's
+    // seeded perturbation breaks the symmetry while the cloth falls, and a fold may form on one
+    // side: its rest state is another local minimum near the symmetric one (on the 0.3 m cloth of
+    // the fast test it even finds an asymmetric state of lower energy than the symmetric one).
+    const int n = 7;
+    const model::Grid grid = test::square_grid(n, 0.2);
+    const model::ClothModel m = model::make_cloth_model(test::balanced(), grid, {});
+    ObstacleSet obstacles;
+    obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ()));
+    obstacles.add(std::make_unique<geometry::Sphere>(Vec3(0, 0, 0.15), 0.15));
+    const Positions start = model::flat_grid(grid, Vec3(0, 0, 0.31));
+    const std::vector<int> pole{grid.index(n / 2, n / 2)};
+    sim::SolverOptions o;
+    o.kind = sim::SolverKind::PAPER;
+    o.viscosity = 10.0;  // settles sooner; the equilibrium does not depend on it
+    const sim::Result paper = run(m, obstacles, start, pole, o);
+    const sim::Result fast = run(m, obstacles, start, pole, {});
+    ASSERT_TRUE(paper.converged);
+    EXPECT_GT(sim::min_obstacle_distance(obstacles, paper.x), -1e-4);
+    // The pole pin leaves the cloth free to turn about z (no friction), and the noise may turn
+    // it: compare heights and distances from the axis, which a turn keeps. Tolerance: 3 cm,
+    // 15 % of the cloth's side (the noise's fold measured 1.9 cm with seed 1).
     double worst = 0;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
-            const Vec3& a = r.x[grid.index(i, j)];
-            const Vec3& b = r.x[grid.index(n - 1 - j, i)];
-            worst = std::max(worst, (Vec3(-a.y(), a.x(), a.z()) - b).norm());
+            const Vec3& a = paper.x[grid.index(i, j)];
+            const Vec3& b = paper.x[grid.index(n - 1 - j, i)];
+            worst = std::max({worst, std::abs(a.z() - b.z()), std::abs(a.head<2>().norm() - b.head<2>().norm())});
         }
-    EXPECT_LT(worst, 1e-4) << "largest asymmetry (m)";
+    EXPECT_LT(worst, 0.03) << "m";
+    // And its energy is that of the symmetric rest state within 5 % of the energy released
+    // (the fold costs 3.7 % with seed 1).
+    const double released = m.energy(start) - fast.energy.total();
+    EXPECT_NEAR(paper.energy.total(), fast.energy.total(), 0.05 * released);
 }
 
 TEST(FastSolver, CubeDrapeRestsOnTheCubeWithoutPenetration)
