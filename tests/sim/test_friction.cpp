@@ -36,7 +36,9 @@ TEST(Friction, GradientMatchesFiniteDifferencesWhenStickingAndSliding)
         }
         // The force never exceeds mu lambda and equals it when sliding.
         EXPECT_LE(g.norm(), f.bound * (1 + 1e-12));
-        if (slip > 1) EXPECT_NEAR(g.norm(), f.bound, 1e-12 * f.bound);
+        if (slip > 1) {
+            EXPECT_NEAR(g.norm(), f.bound, 1e-12 * f.bound);
+        }
         // The Hessian is PSD and has no normal component.
         const Mat3 H = f.hessian(x, eps);
         Eigen::SelfAdjointEigenSolver<Mat3> es(0.5 * (H + H.transpose()));
