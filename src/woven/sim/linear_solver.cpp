@@ -1,6 +1,7 @@
 #include "woven/sim/linear_solver.hpp"
 
 #include <dlfcn.h>
+#include <omp.h>
 
 #include <cmath>
 
@@ -30,6 +31,22 @@ NewtonLinearSolver::~NewtonLinearSolver() = default;
 void NewtonLinearSolver::reset() { factor_->analysed = false; }
 
 namespace {
+
+/// Runs CHOLMOD's OpenMP loops on the calling thread. CHOLMOD 3 asks for a fixed number of
+/// threads (4) in its supernodal loops whatever omp_set_num_threads says; on a 2-core machine
+/// the oversubscribed, spinning threads more than doubled the 51 x 51 cube's wall time (20-25 s,
+/// 9 s with this guard, one thread). Its dense kernels still use the BLAS's threads.
+class SerialOpenMP {
+public:
+    SerialOpenMP() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+    ~SerialOpenMP() { omp_set_max_active_levels(levels_); }
+    SerialOpenMP(const SerialOpenMP&) = delete;
+    SerialOpenMP& operator=(const SerialOpenMP&) = delete;
+
+private:
+    int levels_;
+};
+
 bool same_structure(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b)
 {
     if (a.rows() != b.rows() || a.nonZeros() != b.nonZeros()) return false;
@@ -40,6 +57,7 @@ bool same_structure(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMat
 
 void NewtonLinearSolver::factorize(const Eigen::SparseMatrix<double>& H)
 {
+    const SerialOpenMP serial;
     Factor& f = *factor_;
     Eigen::SparseMatrix<double> lower = H.triangularView<Eigen::Lower>();
     if (!f.analysed || !same_structure(lower, f.pattern)) {
@@ -87,6 +105,7 @@ bool NewtonLinearSolver::preconditioned_cg(const Eigen::SparseMatrix<double>& H,
 
 void NewtonLinearSolver::solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)
 {
+    const SerialOpenMP serial;
     if (factor_->analysed && preconditioned_cg(H, rhs, d)) return;
     factorize(H);
     d = factor_->llt.solve(rhs);
