@@ -11,7 +11,6 @@
 #include <cmath>
 #include <limits>
 
-#include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
 #include "woven/sim/assembly.hpp"
 #include "woven/sim/contact.hpp"

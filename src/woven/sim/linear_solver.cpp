@@ -28,8 +28,6 @@ NewtonLinearSolver::NewtonLinearSolver(Options options) : options_(options), fac
 
 NewtonLinearSolver::~NewtonLinearSolver() = default;
 
-void NewtonLinearSolver::reset() { factor_->analysed = false; }
-
 namespace {
 
 /// Runs CHOLMOD's OpenMP loops on the calling thread. CHOLMOD 3 asks for a fixed number of

@@ -26,9 +26,6 @@ public:
     /// RuntimeError if H cannot be factorised even with a diagonal shift.
     void solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d);
 
-    /// Forgets the factorisation (the next solve factorises).
-    void reset();
-
     int factorizations() const { return factorizations_; }
     int cg_iterations() const { return cg_iterations_; }
 
