@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Runs each fuzz target for FUZZ_SECONDS (default 60) on its corpus: the committed regression
+# corpus fuzz/corpus/<target>/ and the built-in files as seeds; new inputs go to
+# <build>/fuzz-corpus/<target>/, crashes to <build>/fuzz-artifacts/. Usage: run.sh BUILD [SECONDS] [TARGETS...]
+set -uo pipefail
+build=${1:?usage: run.sh BUILD [SECONDS] [TARGETS...]}
+seconds=${2:-60}
+shift $(( $# >= 2 ? 2 : $# ))
+targets=("$@")
+[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj)
+root=$(cd "$(dirname "$0")/.." && pwd)
+declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets")
+declare -A dicts=([fabric]="$root/fuzz/toml.dict" [scene]="$root/fuzz/toml.dict" [obj]="$root/fuzz/obj.dict")
+status=0
+for t in "${targets[@]}"; do
+  work="$build/fuzz-corpus/$t"
+  mkdir -p "$work" "$build/fuzz-artifacts"
+  echo "fuzz_$t: ${seconds} s" >&2
+  "$build/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=16384 \
+    -dict="${dicts[$t]}" -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
+    "$work" "$root/fuzz/corpus/$t" "${seeds[$t]}" 2>&1 | tail -n 25 || status=1
+done
+exit $status
