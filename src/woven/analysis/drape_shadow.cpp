@@ -1,0 +1,278 @@
+#include "woven/analysis/drape_shadow.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <utility>
+
+#include "woven/common/error.hpp"
+
+namespace woven::analysis {
+
+namespace {
+
+constexpr const char* kWhere = "drape shadow";
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// The projected faces with finite vertices.
+std::vector<std::array<Vec2, 3>> projected_faces(const geometry::TriangleMesh& mesh)
+{
+    std::vector<std::array<Vec2, 3>> out;
+    out.reserve(mesh.faces.size());
+    const int nv = static_cast<int>(mesh.vertices.size());
+    for (const auto& f : mesh.faces) {
+        std::array<Vec2, 3> t;
+        bool ok = true;
+        for (int k = 0; k < 3; ++k) {
+            if (f[k] < 0 || f[k] >= nv || !mesh.vertices[f[k]].allFinite()) {
+                ok = false;
+                break;
+            }
+            t[k] = mesh.vertices[f[k]].head<2>();
+        }
+        if (ok) out.push_back(t);
+    }
+    return out;
+}
+
+/// The x-interval a triangle covers on the line y = const; false if it misses it.
+bool interval_at(const std::array<Vec2, 3>& t, double y, double& x0, double& x1)
+{
+    x0 = INFINITY;
+    x1 = -INFINITY;
+    for (int k = 0; k < 3; ++k) {
+        const Vec2& p = t[k];
+        const Vec2& q = t[(k + 1) % 3];
+        if ((p.y() - y) * (q.y() - y) > 0) continue;
+        if (p.y() == q.y()) {
+            x0 = std::min({x0, p.x(), q.x()});
+            x1 = std::max({x1, p.x(), q.x()});
+        } else {
+            const double x = p.x() + (y - p.y()) * (q.x() - p.x()) / (q.y() - p.y());
+            x0 = std::min(x0, x);
+            x1 = std::max(x1, x);
+        }
+    }
+    return x0 <= x1;
+}
+
+/// For scanlines y_k = y0 + (k + 1/2) row, k = 0..rows-1: each face's x-interval, merged into
+/// disjoint sorted intervals per row.
+std::vector<std::vector<std::pair<double, double>>> row_intervals(
+    const std::vector<std::array<Vec2, 3>>& faces, double y0, double row, int rows)
+{
+    std::vector<std::vector<std::pair<double, double>>> r(rows);
+    for (const auto& t : faces) {
+        const double lo = std::min({t[0].y(), t[1].y(), t[2].y()});
+        const double hi = std::max({t[0].y(), t[1].y(), t[2].y()});
+        const int k0 = std::max(0, static_cast<int>(std::ceil((lo - y0) / row - 0.5)));
+        const int k1 = std::min(rows - 1, static_cast<int>(std::floor((hi - y0) / row - 0.5)));
+        for (int k = k0; k <= k1; ++k) {
+            double x0, x1;
+            if (interval_at(t, y0 + (k + 0.5) * row, x0, x1)) r[k].emplace_back(x0, x1);
+        }
+    }
+    for (auto& v : r) {
+        std::sort(v.begin(), v.end());
+        std::vector<std::pair<double, double>> merged;
+        for (const auto& iv : v) {
+            if (!merged.empty() && iv.first <= merged.back().second)
+                merged.back().second = std::max(merged.back().second, iv.second);
+            else
+                merged.push_back(iv);
+        }
+        v = std::move(merged);
+    }
+    return r;
+}
+
+}  // namespace
+
+double shadow_area(const geometry::TriangleMesh& mesh, double row_m)
+{
+    if (!(row_m > 0) || !std::isfinite(row_m)) throw InputError(kWhere, "row_m", "expected a positive scanline spacing in m");
+    const auto faces = projected_faces(mesh);
+    if (faces.empty()) return 0.0;
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& t : faces)
+        for (const auto& p : t) {
+            lo = std::min(lo, p.y());
+            hi = std::max(hi, p.y());
+        }
+    const double y0 = std::floor(lo / row_m) * row_m;
+    const int rows = static_cast<int>(std::ceil((hi - y0) / row_m)) + 1;
+    double length = 0;
+    for (const auto& v : row_intervals(faces, y0, row_m, rows))
+        for (const auto& iv : v) length += iv.second - iv.first;
+    return length * row_m;
+}
+
+double ShadowRaster::area_m2() const
+{
+    double n = 0;
+    for (unsigned char c : covered) n += c ? 1 : 0;
+    return n * pixel_m * pixel_m;
+}
+
+ShadowRaster rasterize_shadow(const geometry::TriangleMesh& mesh, const Vec2& origin, double pixel_m, int width, int height)
+{
+    if (!(pixel_m > 0) || width <= 0 || height <= 0)
+        throw InputError(kWhere, "raster", "expected a positive pixel size and image size");
+    ShadowRaster r;
+    r.width = width;
+    r.height = height;
+    r.pixel_m = pixel_m;
+    r.origin = origin;
+    r.covered.assign(static_cast<size_t>(width) * height, 0);
+    const auto rows = row_intervals(projected_faces(mesh), origin.y(), pixel_m, height);
+    for (int k = 0; k < height; ++k)
+        for (const auto& iv : rows[k]) {
+            // Pixel c's centre origin.x + (c + 1/2) p lies in [x0, x1].
+            const int c0 = std::max(0, static_cast<int>(std::ceil((iv.first - origin.x()) / pixel_m - 0.5)));
+            const int c1 = std::min(width - 1, static_cast<int>(std::floor((iv.second - origin.x()) / pixel_m - 0.5)));
+            for (int c = c0; c <= c1; ++c) r.covered[static_cast<size_t>(c) + static_cast<size_t>(width) * k] = 1;
+        }
+    return r;
+}
+
+std::vector<double> shadow_radius(const geometry::TriangleMesh& mesh, const Vec2& centre, int n)
+{
+    if (n < 8) throw InputError(kWhere, "angles", "expected at least 8 angles");
+    constexpr double kTwoPi = 2.0 * std::numbers::pi;
+    const double step = kTwoPi / n;
+    std::vector<double> r(n, 0.0);
+    // Ray k: centre + t d_k, d_k = (sin theta_k, cos theta_k), theta from +y towards +x.
+    auto exit_distance = [&](const std::array<Vec2, 3>& t, int k) {
+        const double th = k * step;
+        const Vec2 d(std::sin(th), std::cos(th));
+        double best = -1;
+        for (int e = 0; e < 3; ++e) {
+            const Vec2 p = t[e], q = t[(e + 1) % 3];
+            const Vec2 ed = q - p;
+            const double den = cross(d, ed);
+            if (std::abs(den) < 1e-300) continue;
+            const double tt = cross(p, ed) / den;
+            const double s = cross(p, d) / den;
+            if (s >= -1e-12 && s <= 1 + 1e-12 && tt >= 0) best = std::max(best, tt);
+        }
+        return best;
+    };
+    for (auto t : projected_faces(mesh)) {
+        for (auto& p : t) p -= centre;
+        // A triangle strictly around the centre (or with the centre on an edge) meets every
+        // ray; otherwise only the rays within its angular span (less than pi) as seen from the
+        // centre, taken over its vertices away from the centre.
+        const double c0 = cross(t[1] - t[0], -t[0]), c1 = cross(t[2] - t[1], -t[1]), c2 = cross(t[0] - t[2], -t[2]);
+        const double scale = 1e-12 * (t[0].squaredNorm() + t[1].squaredNorm() + t[2].squaredNorm());
+        int at_centre = -1;
+        for (int v = 0; v < 3; ++v)
+            if (t[v].squaredNorm() <= scale) at_centre = v;
+        const bool around = at_centre < 0 && ((c0 >= 0 && c1 >= 0 && c2 >= 0) || (c0 <= 0 && c1 <= 0 && c2 <= 0));
+        int k0 = 0, k1 = n - 1;
+        if (!around) {
+            int ref = at_centre == 0 ? 1 : 0;
+            const double a0 = std::atan2(t[ref].x(), t[ref].y());
+            double lo = 0, hi = 0;
+            for (int v = 0; v < 3; ++v) {
+                if (v == ref || v == at_centre) continue;
+                double dlt = std::atan2(t[v].x(), t[v].y()) - a0;
+                while (dlt > std::numbers::pi) dlt -= kTwoPi;
+                while (dlt < -std::numbers::pi) dlt += kTwoPi;
+                lo = std::min(lo, dlt);
+                hi = std::max(hi, dlt);
+            }
+            k0 = static_cast<int>(std::ceil((a0 + lo) / step - 1e-9));
+            k1 = static_cast<int>(std::floor((a0 + hi) / step + 1e-9));
+        }
+        for (int k = k0; k <= k1; ++k) {
+            const int kk = ((k % n) + n) % n;
+            const double t_exit = exit_distance(t, kk);
+            if (t_exit > r[kk]) r[kk] = t_exit;
+        }
+    }
+    return r;
+}
+
+std::vector<Peak> periodic_peaks(const std::vector<double>& values, double min_prominence)
+{
+    if (!(min_prominence > 0)) throw InputError(kWhere, "min_prominence", "expected a positive prominence");
+    const int n = static_cast<int>(values.size());
+    if (n < 3) throw InputError(kWhere, "values", "expected at least 3 samples");
+    // Start at the global minimum and close the loop with it: then every maximum lies strictly
+    // inside s[0..n], and the wrap-around needs no special case.
+    const int m = static_cast<int>(std::min_element(values.begin(), values.end()) - values.begin());
+    std::vector<double> s(n + 1);
+    for (int k = 0; k <= n; ++k) s[k] = values[(m + k) % n];
+    std::vector<Peak> peaks;
+    int k = 1;
+    while (k < n) {
+        if (s[k] > s[k - 1]) {
+            int j = k;
+            while (j + 1 <= n && s[j + 1] == s[k]) ++j;
+            if (j + 1 <= n && s[j + 1] < s[k]) {
+                // Plateau [k, j]: higher ground is the first sample above s[k] on each side.
+                const double top = s[k];
+                double left = top, right = top;
+                for (int a = k - 1; a >= 0 && s[a] <= top; --a) left = std::min(left, s[a]);
+                for (int b = j + 1; b <= n && s[b] <= top; ++b) right = std::min(right, s[b]);
+                const double prominence = top - std::max(left, right);
+                if (prominence >= min_prominence) {
+                    double idx = 0.5 * (k + j);
+                    if (j == k) {
+                        const double ym = s[k - 1], y0 = s[k], yp = s[k + 1];
+                        const double den = ym - 2 * y0 + yp;
+                        if (den < 0) idx += 0.5 * (ym - yp) / den;
+                    }
+                    idx = std::fmod(idx + m, static_cast<double>(n));
+                    peaks.push_back({idx, top, prominence});
+                }
+            }
+            k = j + 1;
+        } else {
+            ++k;
+        }
+    }
+    std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.index < b.index; });
+    return peaks;
+}
+
+double drape_coefficient_percent(double shadow_area_m2, double disc_area_m2, double specimen_area_m2)
+{
+    if (!(disc_area_m2 > 0) || !(specimen_area_m2 > disc_area_m2) || !std::isfinite(specimen_area_m2))
+        throw InputError(kWhere, "areas", "expected 0 < disc area < specimen area");
+    return (shadow_area_m2 - disc_area_m2) / (specimen_area_m2 - disc_area_m2) * 100.0;
+}
+
+Nodes find_nodes(const std::vector<double>& radius_m, double flat_radius_m, double min_prominence_m)
+{
+    Nodes nodes;
+    const double deg_per_sample = 360.0 / static_cast<double>(radius_m.size());
+    for (const Peak& p : periodic_peaks(radius_m, min_prominence_m)) {
+        nodes.angle_deg.push_back(p.index * deg_per_sample);
+        nodes.radius_m.push_back(p.value);
+        nodes.depth_m.push_back(flat_radius_m - p.value);
+        nodes.amplitude_m.push_back(p.prominence);
+    }
+    return nodes;
+}
+
+DrapeShadow measure_drape(const geometry::TriangleMesh& specimen, const Vec2& centre, double disc_radius_m, double specimen_radius_m,
+    double specimen_area_m2, const DrapeShadowOptions& options)
+{
+    if (!(disc_radius_m > 0) || !(specimen_radius_m > disc_radius_m))
+        throw InputError(kWhere, "radius", "expected 0 < disc radius < specimen radius");
+    if (!(options.min_prominence_fraction > 0)) throw InputError(kWhere, "min_prominence_fraction", "expected a positive fraction");
+    DrapeShadow d;
+    d.shadow_area_m2 = shadow_area(specimen, options.row_m);
+    d.disc_area_m2 = std::numbers::pi * disc_radius_m * disc_radius_m;
+    d.specimen_area_m2 = specimen_area_m2;
+    d.drape_coefficient_percent = drape_coefficient_percent(d.shadow_area_m2, d.disc_area_m2, specimen_area_m2);
+    d.radius_m = shadow_radius(specimen, centre, options.angles);
+    d.nodes = find_nodes(d.radius_m, specimen_radius_m, options.min_prominence_fraction * (specimen_radius_m - disc_radius_m));
+    return d;
+}
+
+}  // namespace woven::analysis

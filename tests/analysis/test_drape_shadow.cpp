@@ -1,0 +1,208 @@
+// The drape tester's measures: shadow area (exact references), drape coefficient, and the node
+// counter on synthetic shadows with k lobes, including a lobe that straddles angle 0.
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "woven/analysis/drape_shadow.hpp"
+#include "woven/common/error.hpp"
+
+namespace an = woven::analysis;
+using woven::Vec2;
+using woven::Vec3;
+using woven::geometry::TriangleMesh;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// A star-shaped polygon r(theta) (theta from +y towards +x), as a triangle fan around `centre`
+/// at height z; n vertices.
+template <class F> TriangleMesh star(F r, int n, const Vec2& centre = Vec2::Zero(), double z = 0.2)
+{
+    TriangleMesh m;
+    m.vertices.push_back(Vec3(centre.x(), centre.y(), z));
+    for (int k = 0; k < n; ++k) {
+        const double th = 2 * kPi * k / n;
+        m.vertices.push_back(Vec3(centre.x() + r(th) * std::sin(th), centre.y() + r(th) * std::cos(th), z));
+    }
+    for (int k = 0; k < n; ++k) m.faces.emplace_back(0, 1 + k, 1 + (k + 1) % n);
+    return m;
+}
+
+/// Exact area of a star polygon's fan.
+template <class F> double star_area(F r, int n)
+{
+    double a = 0;
+    for (int k = 0; k < n; ++k) a += 0.5 * r(2 * kPi * k / n) * r(2 * kPi * (k + 1) / n) * std::sin(2 * kPi / n);
+    return a;
+}
+
+}  // namespace
+
+TEST(DrapeShadow, AreaOfOneTriangleAndOfOverlappingSquaresIsExact)
+{
+    TriangleMesh t;
+    t.vertices = {Vec3(0, 0, 0), Vec3(0.3, 0.05, 0.1), Vec3(0.1, 0.2, -0.1)};
+    t.faces = {Eigen::Vector3i(0, 1, 2)};
+    const double exact = 0.5 * std::abs(0.3 * 0.2 - 0.05 * 0.1);
+    EXPECT_NEAR(an::shadow_area(t), exact, 1e-8);  // x-sections linear in y: the midpoint rule errs only in the rows at the vertices
+
+    // Two unit squares overlapping in a 0.5 x 1 strip, and the first one twice (the union counts it once).
+    TriangleMesh s;
+    auto square = [&](double x0, double z) {
+        const int b = static_cast<int>(s.vertices.size());
+        s.vertices.insert(s.vertices.end(), {Vec3(x0, 0, z), Vec3(x0 + 1, 0, z), Vec3(x0 + 1, 1, z), Vec3(x0, 1, z)});
+        s.faces.emplace_back(b, b + 1, b + 2);
+        s.faces.emplace_back(b, b + 2, b + 3);
+    };
+    square(0.0, 0.0);
+    square(0.5, 0.3);
+    square(0.0, -0.2);
+    EXPECT_NEAR(an::shadow_area(s, 1e-3), 1.5, 1e-9);
+}
+
+TEST(DrapeShadow, AreaOfAPolygonConvergesAtSecondOrder)
+{
+    auto r = [](double th) { return 0.12 + 0.03 * std::cos(5 * th); };
+    const TriangleMesh m = star(r, 400);
+    const double exact = star_area(r, 400);
+    const double e1 = std::abs(an::shadow_area(m, 1e-3) - exact);
+    const double e2 = std::abs(an::shadow_area(m, 1e-4) - exact);
+    EXPECT_LT(e2 / exact, 1e-5);  // the header's "about 2e-6 relative at 0.1 mm", with margin
+    EXPECT_LT(e2, e1 / 10 + 1e-12);
+}
+
+TEST(DrapeShadow, FlatUndrapedSpecimenHasDC100)
+{
+    // A 30 cm specimen as a 720-gon with the circle's exact area, on an 18 cm disc.
+    const double R = 0.15, rd = 0.09;
+    const int n = 720;
+    const double Rp = R * std::sqrt(2 * kPi / (n * std::sin(2 * kPi / n)));
+    const TriangleMesh flat = star([&](double) { return Rp; }, n);
+    const double A = kPi * R * R;
+    EXPECT_NEAR(an::shadow_area(flat), A, 1e-5 * A);
+    const an::DrapeShadow d = an::measure_drape(flat, Vec2::Zero(), rd, R, A);
+    EXPECT_NEAR(d.drape_coefficient_percent, 100.0, 1e-3);
+    EXPECT_EQ(d.nodes.count(), 0);
+    for (double r : d.radius_m) EXPECT_NEAR(r, R, 2e-5);
+}
+
+TEST(DrapeShadow, DCOfAShadowTheSizeOfTheDiscIsZero)
+{
+    const double rd = 0.09;
+    const int n = 720;
+    const double Rp = rd * std::sqrt(2 * kPi / (n * std::sin(2 * kPi / n)));
+    const TriangleMesh m = star([&](double) { return Rp; }, n);
+    EXPECT_NEAR(an::measure_drape(m, Vec2::Zero(), rd, 0.15, kPi * 0.15 * 0.15).drape_coefficient_percent, 0.0, 1e-3);
+    // Half way in area: DC 50 %.
+    const double Rh = std::sqrt(0.5 * (0.15 * 0.15 + rd * rd)) * std::sqrt(2 * kPi / (n * std::sin(2 * kPi / n)));
+    const TriangleMesh h = star([&](double) { return Rh; }, n);
+    EXPECT_NEAR(an::measure_drape(h, Vec2::Zero(), rd, 0.15, kPi * 0.15 * 0.15).drape_coefficient_percent, 50.0, 1e-3);
+}
+
+TEST(DrapeShadow, ShadowRadiusOfAnOffCentreStarIsItsOutline)
+{
+    const Vec2 c(0.4, -0.2);
+    auto r = [](double th) { return 0.13 + 0.02 * std::cos(6 * th + 0.3); };
+    const TriangleMesh m = star(r, 1440, c);
+    const std::vector<double> rr = an::shadow_radius(m, c, 1440);
+    for (int k = 0; k < 1440; ++k) EXPECT_NEAR(rr[k], r(2 * kPi * k / 1440), 1e-9) << k;
+}
+
+struct Lobes {
+    int k;
+    double phase_deg;  ///< angle of the first lobe's tip
+};
+
+class NodeCounter : public ::testing::TestWithParam<Lobes> { };
+
+TEST_P(NodeCounter, FindsExactlyKNodesOnAKLobedShadow)
+{
+    const Lobes p = GetParam();
+    const double R = 0.15, rd = 0.09, amp = 0.02, phase = p.phase_deg * kPi / 180;
+    for (const double ripple : {0.0, 0.0006}) {
+        SCOPED_TRACE(ripple);
+        // Lobes of a draped specimen; the second time with a small ripple (a tenth of the
+        // 6 mm prominence threshold) as a coarse grid's faceting would add.
+        auto r = [&](double th) { return 0.125 + amp * std::cos(p.k * (th - phase)) + ripple * std::cos(37 * th); };
+        const TriangleMesh m = star(r, 2880);
+        // measure_drape's threshold: a tenth of the overhang.
+        const an::Nodes nodes = an::find_nodes(an::shadow_radius(m, Vec2::Zero()), R, 0.1 * (R - rd));
+        ASSERT_EQ(nodes.count(), p.k);
+        for (int j = 0; j < p.k; ++j) {
+            EXPECT_NEAR(nodes.radius_m[j], 0.145, 0.001);
+            EXPECT_NEAR(nodes.depth_m[j], R - nodes.radius_m[j], 1e-12);
+            EXPECT_NEAR(nodes.amplitude_m[j], 2 * amp, 0.002);
+            if (j > 0) {
+                EXPECT_LT(nodes.angle_deg[j - 1], nodes.angle_deg[j]);
+            }
+        }
+        if (ripple > 0) continue;  // the ripple moves the tips; their places are checked without it
+        for (int j = 0; j < p.k; ++j) {
+            const double expect = std::fmod(p.phase_deg + 360.0 * j / p.k, 360.0);
+            double best = 360;
+            for (double a : nodes.angle_deg) best = std::min(best, std::abs(std::remainder(a - expect, 360.0)));
+            EXPECT_LT(best, 0.05) << "lobe " << j << " at " << expect;
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(DrapeShadow, NodeCounter,
+    ::testing::Values(Lobes{1, 90}, Lobes{2, 10}, Lobes{3, 0}, Lobes{4, 45}, Lobes{5, 359.9}, Lobes{6, 0.1}, Lobes{7, 3}, Lobes{8, 22.5},
+        Lobes{9, 180}, Lobes{10, 0}, Lobes{12, 357}));
+
+TEST(DrapeShadow, PeriodicPeaksHandleWrapPlateausAndThreshold)
+{
+    // A plateau spanning the end and the start is one peak, at its middle (index 0).
+    std::vector<double> v = {5, 5, 1, 0, 1, 2, 1, 0, 1, 5};
+    auto p = an::periodic_peaks(v, 0.5);
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_NEAR(p[0].index, 0.0, 1e-12);
+    EXPECT_DOUBLE_EQ(p[0].value, 5);
+    EXPECT_DOUBLE_EQ(p[0].prominence, 5);
+    EXPECT_NEAR(p[1].index, 5.0, 1e-12);
+    EXPECT_DOUBLE_EQ(p[1].prominence, 2);
+    // The small peak falls below a threshold of 3.
+    EXPECT_EQ(an::periodic_peaks(v, 3.0).size(), 1u);
+    // A constant sequence, and a sequence with one minimum, have no / one peak.
+    EXPECT_TRUE(an::periodic_peaks(std::vector<double>(50, 0.1), 1e-6).empty());
+    EXPECT_EQ(an::periodic_peaks({0, 1, 2, 3, 2, 1}, 1.0).size(), 1u);
+    // Two equal tops both count (neither is higher ground for the other).
+    EXPECT_EQ(an::periodic_peaks({0, 2, 0, 2}, 1.5).size(), 2u);
+    EXPECT_THROW(an::periodic_peaks(v, 0.0), woven::InputError);
+    EXPECT_THROW(an::periodic_peaks({1, 2}, 1.0), woven::InputError);
+}
+
+TEST(DrapeShadow, RasterAgreesWithTheAreaToAPixelRing)
+{
+    auto r = [](double th) { return 0.12 + 0.025 * std::cos(7 * th); };
+    const TriangleMesh m = star(r, 1000);
+    const double exact = star_area(r, 1000);
+    const double px = 5e-4;
+    const an::ShadowRaster s = an::rasterize_shadow(m, Vec2(-0.2, -0.2), px, 800, 800);
+    // Counting pixel centres errs by at most the boundary's length times half a pixel diagonal.
+    const double perimeter = 1.2;
+    EXPECT_NEAR(s.area_m2(), exact, perimeter * px * 0.71);
+    EXPECT_NEAR(s.area_m2(), exact, 0.002 * exact);
+    EXPECT_EQ(s.covered[400 + 800 * 400], 1);  // the centre
+    EXPECT_EQ(s.covered[0], 0);                // a corner
+}
+
+TEST(DrapeShadow, BadInputsThrow)
+{
+    EXPECT_THROW(an::drape_coefficient_percent(0.05, 0.0, 0.07), woven::InputError);
+    EXPECT_THROW(an::drape_coefficient_percent(0.05, 0.07, 0.07), woven::InputError);
+    TriangleMesh m;
+    EXPECT_THROW(an::shadow_area(m, 0.0), woven::InputError);
+    EXPECT_EQ(an::shadow_area(m), 0.0);
+    EXPECT_THROW(an::shadow_radius(m, Vec2::Zero(), 4), woven::InputError);
+    EXPECT_THROW(an::measure_drape(m, Vec2::Zero(), 0.15, 0.09, 0.07), woven::InputError);
+    // Non-finite vertices are skipped, not propagated.
+    m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, NAN, 0)};
+    m.faces = {Eigen::Vector3i(0, 1, 2)};
+    EXPECT_EQ(an::shadow_area(m), 0.0);
+}
