@@ -1,10 +1,12 @@
 # woven: the two commands of the README, plus the pieces they are made of.
 BUILD      ?= build
 ASAN_BUILD ?= build-asan
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 60
 JOBS       ?= $(shell nproc)
 CMAKE_GEN  := -G Ninja
 
-.PHONY: all deps build build-asan demo test test-release test-asan bench clean
+.PHONY: all deps build build-asan build-fuzz demo test test-release test-asan fuzz bench clean
 
 all: build
 
@@ -38,10 +40,24 @@ test: deps
 	$(MAKE) test-release
 	$(MAKE) test-asan
 
+# libFuzzer targets of the parsers, built with clang (ASan + UBSan) in $(FUZZ_BUILD); each runs
+# FUZZ_SECONDS on fuzz/corpus/<target> and the built-in files. `make test` replays the corpus.
+$(FUZZ_BUILD)/build.ninja:
+	cmake -S . -B $(FUZZ_BUILD) $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+		-DWOVEN_FUZZ=ON -DWOVEN_TESTS=OFF \
+		"-DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
+		-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined
+
+build-fuzz: deps $(FUZZ_BUILD)/build.ninja
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_fabric fuzz_scene fuzz_obj
+
+fuzz: build-fuzz
+	bash fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
 bench: deps
 	cmake -S . -B $(BUILD) $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=Release -DWOVEN_BENCH=ON
 	cmake --build $(BUILD) -j $(JOBS)
 	bash bench/run.sh $(BUILD)
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD)
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD)

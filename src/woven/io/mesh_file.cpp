@@ -1,10 +1,12 @@
 #include "woven/io/mesh_file.hpp"
 
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
-
-#include <tiny_obj_loader.h>
+#include <vector>
 
 #include "woven/common/error.hpp"
 
@@ -12,73 +14,118 @@ namespace woven::io {
 
 namespace {
 
-/// Gathers all shapes of a parsed OBJ into one mesh, checking indices and coordinates.
-geometry::TriangleMesh to_mesh(const tinyobj::ObjReader& reader, const std::string& source)
+/// Tokens of one line, split at blanks.
+std::vector<std::string_view> tokens(std::string_view line)
 {
-    const auto& attrib = reader.GetAttrib();
-    const auto nv = static_cast<long long>(attrib.vertices.size() / 3);
-    geometry::TriangleMesh mesh;
-    mesh.vertices.reserve(nv);
-    for (long long k = 0; k < nv; ++k) {
-        const Vec3 p(attrib.vertices[3 * k], attrib.vertices[3 * k + 1], attrib.vertices[3 * k + 2]);
-        if (!p.allFinite())
-            throw InputError(source, "vertices", "vertex " + std::to_string(k + 1) + " is not finite");
-        mesh.vertices.push_back(p);
+    std::vector<std::string_view> t;
+    std::size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+        const std::size_t b = i;
+        while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+        if (i > b) t.push_back(line.substr(b, i - b));
     }
-    for (const auto& shape : reader.GetShapes()) {
-        size_t offset = 0;
-        for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
-            const int n = shape.mesh.num_face_vertices[f];
-            if (n != 3) throw InputError(source, "faces", "face with " + std::to_string(n) + " vertices after triangulation");
-            Eigen::Vector3i face;
+    return t;
+}
+
+std::string shown(std::string_view s) { return "'" + std::string(s.substr(0, 40)) + (s.size() > 40 ? "...'" : "'"); }
+
+}  // namespace
+
+geometry::TriangleMesh parse_obj_mesh(std::string_view text, const std::string& source)
+{
+    if (text.size() > kMaxObjBytes)
+        throw InputError(source, "file",
+                         "expected an OBJ file of at most " + std::to_string(kMaxObjBytes >> 20) + " MiB, got " +
+                             std::to_string(text.size()) + " bytes");
+    geometry::TriangleMesh mesh;
+    struct Corner {
+        long long index;  ///< 0-based, or >= vertex count: checked at the end
+        long long line;
+    };
+    std::vector<std::array<Corner, 3>> faces;
+    long long line_no = 0;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) end = text.size();
+        std::string_view line = text.substr(pos, end - pos);
+        pos = end + 1;
+        ++line_no;
+        if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+        const auto t = tokens(line);
+        if (t.empty()) continue;
+        auto fail = [&](const std::string& field, const std::string& expected) -> void {
+            throw InputError(source + ":" + std::to_string(line_no), field, expected);
+        };
+        if (t[0] == "v") {
+            // x y z, and an optional weight w that is ignored (as are vertex colours after it).
+            if (t.size() < 4) fail("v", "expected 3 coordinates, got " + std::to_string(t.size() - 1));
+            Vec3 p;
             for (int c = 0; c < 3; ++c) {
-                const int v = shape.mesh.indices[offset + c].vertex_index;
-                if (v < 0 || v >= nv)
-                    throw InputError(source, "faces",
-                                     "vertex index out of range in shape '" + shape.name + "' (" + std::to_string(nv) +
-                                         " vertices)");
-                face[c] = v;
+                const std::string_view s = t[1 + c];
+                double v = 0;
+                const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+                if (r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(v) ||
+                    std::abs(v) > kMaxObjCoordinate)
+                    fail("v", "expected a number in [-" + std::to_string(static_cast<long long>(kMaxObjCoordinate)) +
+                                  ", " + std::to_string(static_cast<long long>(kMaxObjCoordinate)) + "], got " +
+                                  shown(s));
+                p[c] = v;
             }
-            offset += 3;
-            if (face[0] == face[1] || face[1] == face[2] || face[0] == face[2]) continue;  // degenerate
-            mesh.faces.push_back(face);
+            if (static_cast<long long>(mesh.vertices.size()) >= kMaxObjVertices)
+                fail("v", "expected at most " + std::to_string(kMaxObjVertices) + " vertices");
+            mesh.vertices.push_back(p);
+        } else if (t[0] == "f") {
+            if (t.size() < 4) fail("f", "expected at least 3 vertices, got " + std::to_string(t.size() - 1));
+            std::vector<Corner> corners;
+            for (std::size_t k = 1; k < t.size(); ++k) {
+                const std::string_view s = t[k].substr(0, t[k].find('/'));  // v, v/vt, v//vn, v/vt/vn
+                long long v = 0;
+                const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+                const long long nv = static_cast<long long>(mesh.vertices.size());
+                if (r.ec != std::errc() || r.ptr != s.data() + s.size() || v == 0 || v < -nv || v > kMaxObjVertices)
+                    fail("f", "expected a vertex index in [1, " + std::to_string(kMaxObjVertices) + "] or in [-" +
+                                  std::to_string(nv) + ", -1] (relative), got " + shown(t[k]));
+                corners.push_back({v > 0 ? v - 1 : nv + v, line_no});
+            }
+            if (faces.size() + corners.size() > static_cast<std::size_t>(kMaxObjVertices) * 2)
+                fail("f", "expected at most " + std::to_string(2 * kMaxObjVertices) + " triangles");
+            for (std::size_t k = 1; k + 1 < corners.size(); ++k) faces.push_back({corners[0], corners[k], corners[k + 1]});
         }
+        // Other statements (vt, vn, o, g, s, usemtl, mtllib, l, p, ...) are ignored.
+    }
+    const long long nv = static_cast<long long>(mesh.vertices.size());
+    for (const auto& f : faces) {
+        Eigen::Vector3i face;
+        for (int c = 0; c < 3; ++c) {
+            if (f[c].index >= nv)
+                throw InputError(source + ":" + std::to_string(f[c].line), "f",
+                                 "vertex index " + std::to_string(f[c].index + 1) + " out of range (the file has " +
+                                     std::to_string(nv) + " vertices)");
+            face[c] = static_cast<int>(f[c].index);
+        }
+        if (face[0] == face[1] || face[1] == face[2] || face[0] == face[2]) continue;  // degenerate
+        mesh.faces.push_back(face);
     }
     if (mesh.faces.empty()) throw InputError(source, "faces", "the OBJ file has no faces");
     return mesh;
 }
 
-tinyobj::ObjReaderConfig reader_config()
-{
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    return config;
-}
-
-std::string first_line(const std::string& s)
-{
-    std::string t = s.substr(0, s.find('\n'));
-    return t.empty() ? std::string("cannot parse") : t;
-}
-
-}  // namespace
-
 geometry::TriangleMesh load_obj_mesh(const std::string& path)
 {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "file", "no such mesh file");
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path, reader_config())) throw InputError(path, "file", first_line(reader.Error()));
-    return to_mesh(reader, path);
-}
-
-geometry::TriangleMesh parse_obj_mesh(std::string_view text, const std::string& source)
-{
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromString(std::string(text), std::string(), reader_config()))
-        throw InputError(source, "file", first_line(reader.Error()));
-    return to_mesh(reader, source);
+    const auto size = std::filesystem::file_size(path, ec);
+    if (!ec && size > kMaxObjBytes)
+        throw InputError(path, "file",
+                         "expected an OBJ file of at most " + std::to_string(kMaxObjBytes >> 20) + " MiB, got " +
+                             std::to_string(size) + " bytes");
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in && !in.eof()) throw InputError(path, "file", "cannot read the mesh file");
+    return parse_obj_mesh(text.str(), path);
 }
 
 }  // namespace woven::io

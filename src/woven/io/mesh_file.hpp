@@ -1,5 +1,7 @@
 #pragma once
-// Obstacle meshes from Wavefront OBJ files (tinyobjloader), triangulated.
+// Obstacle meshes from Wavefront OBJ files: vertices (`v`) and polygons (`f`, triangulated as
+// fans); normals, texture coordinates, groups and materials are ignored.
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -7,13 +9,19 @@
 
 namespace woven::io {
 
-/// Loads an OBJ file as one triangle mesh (m): the vertices and the faces of every shape, with
-/// polygons triangulated as fans; normals, texture coordinates and materials are ignored.
-/// Throws InputError "<path>: file: ..." for a missing or unreadable file, and
-/// "<path>: faces: ..." for a file with no faces or with a vertex index out of range.
-geometry::TriangleMesh load_obj_mesh(const std::string& path);
+inline constexpr std::size_t kMaxObjBytes = 256u << 20;  ///< largest OBJ file read (256 MiB)
+inline constexpr long long kMaxObjVertices = 10'000'000;  ///< most vertices of one mesh
+inline constexpr double kMaxObjCoordinate = 1e6;           ///< largest |coordinate| in the file (file units)
 
-/// Parses OBJ text (e.g. an embedded asset) as load_obj_mesh does; `source` names it in errors.
+/// Parses OBJ text; `source` names it in errors. Every number is checked: a coordinate that is
+/// not a finite number within +-kMaxObjCoordinate, a vertex index that is not an integer, is 0,
+/// overflows or is out of range are InputError "<source>:<line>: v|f: <what is expected>"; a
+/// file with no (non-degenerate) faces is "<source>: faces: ...". Degenerate triangles (a
+/// repeated vertex) are dropped.
 geometry::TriangleMesh parse_obj_mesh(std::string_view text, const std::string& source);
+
+/// Loads an OBJ file as parse_obj_mesh does; "<path>: file: ..." when it is missing, unreadable
+/// or larger than kMaxObjBytes.
+geometry::TriangleMesh load_obj_mesh(const std::string& path);
 
 }  // namespace woven::io

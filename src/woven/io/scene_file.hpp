@@ -18,6 +18,13 @@ namespace woven::io {
 
 /// Largest cloth a scene may ask for (particles).
 inline constexpr long long kMaxParticles = 4'000'000;
+/// Plausible bounds of a scene (docs/SCENE-FORMAT.md "Bounds").
+inline constexpr double kMaxCoordinate_m = 1e3;     ///< largest |coordinate| of a position (m)
+inline constexpr double kMinLength_m = 1e-4;        ///< smallest obstacle size, radius, thickness (m)
+inline constexpr double kMaxLength_m = 1e3;         ///< largest obstacle size (m)
+inline constexpr double kMinSigma_m = 1e-4;         ///< smallest particle spacing (m)
+inline constexpr double kMaxContactFraction = 0.5;  ///< largest contact distance / sigma
+inline constexpr int kMaxThreads = 4096;            ///< largest thread count asked for
 
 /// The cloth's starting state: a flat nu x nv grid of particles, spacing sigma, at a height.
 struct ClothSpec {
