@@ -43,10 +43,10 @@ BENCHMARK(gradient)->Unit(benchmark::kMillisecond);
 void projected_hessian_assembly(benchmark::State& state)
 {
     Setup s;
-    sim::SparseAssembly system(s.grid, std::vector<char>(s.grid.size(), 0));
+    sim::SparseAssembly system(s.model.stencils(), std::vector<char>(s.grid.size(), 0));
     for (auto _ : state) {
         system.clear();
-        s.model.evaluate(s.x, model::Derivatives::PROJECTED, &system);
+        s.model.evaluate(s.x, model::Derivatives::PROJECTED, system);
         system.finish();
     }
 }
@@ -55,9 +55,9 @@ BENCHMARK(projected_hessian_assembly)->Unit(benchmark::kMillisecond);
 void newton_factorisation(benchmark::State& state)
 {
     Setup s;
-    sim::SparseAssembly system(s.grid, std::vector<char>(s.grid.size(), 0));
+    sim::SparseAssembly system(s.model.stencils(), std::vector<char>(s.grid.size(), 0));
     system.clear();
-    s.model.evaluate(s.x, model::Derivatives::PROJECTED, &system);
+    s.model.evaluate(s.x, model::Derivatives::PROJECTED, system);
     const Mat3 inertia = 1e3 * Mat3::Identity();
     for (int p = 0; p < s.grid.size(); ++p) system.add_particle(p, inertia, Vec3::Zero());
     system.finish();

@@ -9,11 +9,13 @@
 #include <vector>
 
 #include <Eigen/Dense>
+#include <gtest/gtest.h>
 
 #include "woven/common/types.hpp"
 #include "woven/common/units.hpp"
 #include "woven/kes/curve.hpp"
 #include "woven/kes/fabric.hpp"
+#include "woven/kes/fit.hpp"
 #include "woven/model/cloth_model.hpp"
 #include "woven/model/energy_functions.hpp"
 
@@ -64,18 +66,24 @@ struct Curves {
 
 inline double cotton_C0(double sigma) { return model::choose_C0(kCottonW, units::kStandardGravity, sigma, 0.5); }
 
-/// A model on `grid` with only the terms in `on` (the others zero: C0 = 0, zero curves, m = 0).
+/// A model on `grid` with only the terms in `on` (bending and trellis off: zero curves; gravity
+/// off: g = 0, and then C0 is cotton_C0 unless given). Spacing is always on.
 inline model::ClothModel make_model(const model::Grid& grid, Terms on, const Curves& curves = Curves::fitted(), double C0 = -1,
                                     model::BendingForm form = model::BendingForm::SECANT)
 {
-    const double s = grid.sigma;
-    const double c0 = on.spacing ? (C0 > 0 ? C0 : cotton_C0(s)) : 0.0;
-    const double mass = on.gravity ? kCottonW * s * s : 0.0;
-    const auto gf = units::GramForce::PAPER;
-    return model::ClothModel(grid, mass, units::kStandardGravity, model::ThreadSpacing{c0, s},
-                             model::BendingEnergy(on.warp ? curves.warp : zero_curve(2.5), s, form, gf),
-                             model::BendingEnergy(on.weft ? curves.weft : zero_curve(2.5), s, form, gf),
-                             model::TrellisEnergy(on.trellis ? curves.shear : zero_curve(8.0), s, gf));
+    EXPECT_TRUE(on.spacing) << "the spacing terms cannot be switched off";
+    kes::FittedFabric f;
+    f.name = "test";
+    f.areal_density_mg_cm2 = kCottonW / units::kMgPerCm2ToKgPerM2;
+    f.bending_warp = on.warp ? curves.warp : zero_curve(2.5);
+    f.bending_weft = on.weft ? curves.weft : zero_curve(2.5);
+    f.shear = on.trellis ? curves.shear : zero_curve(8.0);
+    model::ModelOptions o;
+    o.bending_form = form;
+    o.gram_force = units::GramForce::PAPER;
+    o.gravity = on.gravity ? units::kStandardGravity : 0.0;
+    o.C0 = C0 > 0 ? C0 : cotton_C0(grid.sigma);
+    return model::ClothModel(f, grid, o);
 }
 
 /// The flat grid at height z0, then spacing scaled by `squeeze`, then each coordinate moved by a
@@ -102,25 +110,24 @@ inline Mat3 random_rotation(unsigned seed)
 
 /// One local contribution as sent to the sink.
 struct Stencil {
+    model::Term term;
     std::vector<int> ids;
     Eigen::VectorXd gradient;
     Eigen::MatrixXd hessian;  ///< empty when none was sent
 };
 
-/// Assembles the dense gradient and Hessian and keeps every stencil.
-class DenseSink : public model::StencilSink {
+/// Assembles the dense gradient and Hessian and keeps every stencil (a model::LocalSink).
+class DenseSink {
 public:
     explicit DenseSink(int n) : g(Eigen::VectorXd::Zero(3 * n)), H(Eigen::MatrixXd::Zero(3 * n, 3 * n)) { }
-    void add(const int* particles, int n, const double* gradient, const double* hessian) override
+    template <int N> void add(model::Term term, const model::Stencil<N>& ids, const model::Local<N>& local, bool with_hessian)
     {
-        Stencil s;
-        s.ids.assign(particles, particles + n);
-        s.gradient = Eigen::Map<const Eigen::VectorXd>(gradient, 3 * n);
-        if (hessian) s.hessian = Eigen::Map<const Eigen::MatrixXd>(hessian, 3 * n, 3 * n);
-        for (int k = 0; k < n; ++k) g.segment<3>(3 * particles[k]) += s.gradient.segment<3>(3 * k);
-        if (hessian)
-            for (int k = 0; k < n; ++k)
-                for (int l = 0; l < n; ++l) H.block<3, 3>(3 * particles[k], 3 * particles[l]) += s.hessian.block<3, 3>(3 * k, 3 * l);
+        Stencil s{term, std::vector<int>(ids.begin(), ids.end()), local.gradient, Eigen::MatrixXd()};
+        if (with_hessian) s.hessian = local.hessian;
+        model::add_local_gradient<N>(ids, local.gradient, g);
+        if (with_hessian)
+            for (int k = 0; k < N; ++k)
+                for (int l = 0; l < N; ++l) H.block<3, 3>(3 * ids[k], 3 * ids[l]) += local.hessian.template block<3, 3>(3 * k, 3 * l);
         stencils.push_back(std::move(s));
     }
     Eigen::VectorXd g;
@@ -131,14 +138,14 @@ public:
 inline Eigen::VectorXd model_gradient(const model::ClothModel& m, const Positions& x)
 {
     DenseSink sink(static_cast<int>(x.size()));
-    m.evaluate(x, model::Derivatives::GRADIENT, &sink);
+    m.evaluate(x, model::Derivatives::GRADIENT, sink);
     return sink.g;
 }
 
 inline Eigen::MatrixXd model_hessian(const model::ClothModel& m, const Positions& x, model::Derivatives what = model::Derivatives::HESSIAN)
 {
     DenseSink sink(static_cast<int>(x.size()));
-    m.evaluate(x, what, &sink);
+    m.evaluate(x, what, sink);
     return sink.H;
 }
 

@@ -118,12 +118,12 @@ TEST_P(RigidMotion, LeavesInternalEnergiesUnchanged)
 }
 INSTANTIATE_TEST_SUITE_P(Seeds, RigidMotion, testing::Range(1u, 7u));
 
-std::vector<std::pair<int, int>> brute_force_pairs(const Positions& x, double sigma)
+std::vector<model::Stencil<2>> brute_force_pairs(const Positions& x, double sigma)
 {
-    std::vector<std::pair<int, int>> p;
+    std::vector<model::Stencil<2>> p;
     for (int i = 0; i < static_cast<int>(x.size()); ++i)
         for (int j = i + 1; j < static_cast<int>(x.size()); ++j)
-            if ((x[i] - x[j]).squaredNorm() < sigma * sigma) p.emplace_back(i, j);
+            if ((x[i] - x[j]).squaredNorm() < sigma * sigma) p.push_back({i, j});
     return p;
 }
 
@@ -240,7 +240,7 @@ TEST(Singular, InfiniteEnergiesAreReportedNotSentToTheSink)
     {
         const ClothModel m = make_model(Grid{3, 1, s}, Terms::all());
         const Positions x = {Vec3(0, 0, 0), Vec3(s, 0, 0), Vec3(0, 0, 0)};
-        const EnergyTerms e = m.evaluate(x, model::Derivatives::GRADIENT, &sink);
+        const EnergyTerms e = m.evaluate(x, model::Derivatives::GRADIENT, sink);
         EXPECT_TRUE(std::isinf(e.repulsion));
         EXPECT_TRUE(std::isinf(e.bending_weft));  // and a thread folded to theta = 0
         EXPECT_TRUE(sink.g.allFinite());
@@ -255,7 +255,7 @@ TEST(Singular, InfiniteEnergiesAreReportedNotSentToTheSink)
         for (int j = 0; j < 3; ++j)
             for (int i = 0; i < 3; ++i) x[grid.index(i, j)] = s * ((i - 1) * e1 + (j - 1) * w);
         DenseSink sink9(9);
-        const EnergyTerms e = m.evaluate(x, model::Derivatives::HESSIAN, &sink9);
+        const EnergyTerms e = m.evaluate(x, model::Derivatives::HESSIAN, sink9);
         EXPECT_TRUE(std::isinf(e.trellis));
         EXPECT_TRUE(sink9.g.allFinite());
         EXPECT_TRUE(sink9.H.allFinite());

@@ -16,8 +16,9 @@
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
-#include "woven/model/cloth_model.hpp"
+#include "woven/kes/fit.hpp"
 #include "woven/model/curvature.hpp"
+#include "woven/model/energy_functions.hpp"
 #include "woven/render/plot.hpp"
 
 namespace woven::cli {
@@ -185,15 +186,19 @@ int run_fit(const FitOptions& options)
     const std::string dir = options.out.empty() ? join_path("out", "fit-" + name) : options.out;
 
     // Everything is computed (and so validated) before anything is written.
-    const model::Grid grid{51, 51, options.sigma_cm * units::kCmToM};
-    const model::ClothModel m = model::make_cloth_model(fabric, grid, model::ModelOptions{});
+    const kes::FittedFabric fit = kes::fit_fabric(fabric);
+    const double sigma_m = options.sigma_cm * units::kCmToM;
+    const model::ModelOptions mo;
+    const model::BendingEnergy warp(fit.bending_warp, sigma_m, mo.bending_form, mo.gram_force);
+    const model::BendingEnergy weft(fit.bending_weft, sigma_m, mo.bending_form, mo.gram_force);
+    const model::TrellisEnergy trellis(fit.shear, sigma_m, mo.gram_force);
     const KesValues kv = kes_values(fabric);
     const std::vector<CurveView> curves = {
-        {"bending_warp", "Bending, warp", &fabric.bending_warp.curve, &m.bending_warp().moment(),
+        {"bending_warp", "Bending, warp", &fabric.bending_warp.curve, &fit.bending_warp,
          "curvature K (1/cm)", "moment M (gf.cm/cm)", "1/cm", "gf.cm/cm", "B", "gf.cm2/cm", kv.B_warp},
-        {"bending_weft", "Bending, weft", &fabric.bending_weft.curve, &m.bending_weft().moment(),
+        {"bending_weft", "Bending, weft", &fabric.bending_weft.curve, &fit.bending_weft,
          "curvature K (1/cm)", "moment M (gf.cm/cm)", "1/cm", "gf.cm/cm", "B", "gf.cm2/cm", kv.B_weft},
-        {"shear", "Shear", &fabric.shear.curve, &m.trellis().force(), "shear angle (deg)", "force F (gf/cm)", "deg",
+        {"shear", "Shear", &fabric.shear.curve, &fit.shear, "shear angle (deg)", "force F (gf/cm)", "deg",
          "gf/cm", "G", "gf/(cm.deg)", kv.G},
     };
     std::vector<Output> outputs;
@@ -203,11 +208,11 @@ int run_fit(const FitOptions& options)
         outputs.push_back({c.key + "_fit.png", "", fit_plot(c)});
         text += describe_fit(c);
     }
-    bending_energy_outputs("bending_warp", "warp", m.bending_warp(), outputs);
-    bending_energy_outputs("bending_weft", "weft", m.bending_weft(), outputs);
-    trellis_energy_outputs(m.trellis(), options.sigma_cm, outputs);
-    text += "trellis: phi_e " + g(m.trellis().last_measured_angle(), 4) + " rad, continuation T = a / (1.05 - phi) + b "
-            "with a " + g(m.trellis().continuation_a(), 4) + " J.rad, b " + g(m.trellis().continuation_b(), 4) + " J\n";
+    bending_energy_outputs("bending_warp", "warp", warp, outputs);
+    bending_energy_outputs("bending_weft", "weft", weft, outputs);
+    trellis_energy_outputs(trellis, options.sigma_cm, outputs);
+    text += "trellis: phi_e " + g(trellis.last_measured_angle(), 4) + " rad, continuation T = a / (1.05 - phi) + b "
+            "with a " + g(trellis.continuation_a(), 4) + " J.rad, b " + g(trellis.continuation_b(), 4) + " J\n";
 
     make_output_dir(dir);
     for (const auto& o : outputs) {

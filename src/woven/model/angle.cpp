@@ -1,4 +1,4 @@
-#include "woven/model/stencils.hpp"
+#include "woven/model/angle.hpp"
 
 namespace woven::model {
 

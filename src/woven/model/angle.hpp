@@ -1,7 +1,6 @@
 #pragma once
-// Derivatives of the geometric quantities the energy terms depend on, on their stencils:
+// The angle the bending and trellis terms depend on (terms.hpp), with its derivatives:
 //
-//   distance r = |x0 - x1|                         (repulsion, stretching: 2 particles)
 //   c = cos(angle between a and b) = a.b/(|a||b|)  with a, b affine in the particles:
 //     bending  (3 particles, x1 the middle):   a = x0 - x1,  b = x2 - x1      theta = acos(c)
 //
@@ -59,6 +58,19 @@ template <int N> MatN<3 * N> to_particles(const AffinePair<N>& s, const MatN<6>&
             out.template block<3, 3>(3 * k, 3 * l) = s.alpha[k] * s.alpha[l] * H.topLeftCorner<3, 3>() + s.alpha[k] * s.beta[l] * H.topRightCorner<3, 3>()
                 + s.beta[k] * s.alpha[l] * H.bottomLeftCorner<3, 3>() + s.beta[k] * s.beta[l] * H.bottomRightCorner<3, 3>();
     return out;
+}
+
+/// Particle k's part of to_particles(s, g): alpha_k g_a + beta_k g_b.
+template <int N> Vec3 to_particle(const AffinePair<N>& s, const VecN<6>& g, int k)
+{
+    return s.alpha[k] * g.head<3>() + s.beta[k] * g.tail<3>();
+}
+
+/// Particle k's diagonal 3x3 block of to_particles(s, H).
+template <int N> Mat3 to_particle_block(const AffinePair<N>& s, const MatN<6>& H, int k)
+{
+    return s.alpha[k] * s.alpha[k] * H.topLeftCorner<3, 3>() + s.alpha[k] * s.beta[k] * H.topRightCorner<3, 3>()
+        + s.beta[k] * s.alpha[k] * H.bottomLeftCorner<3, 3>() + s.beta[k] * s.beta[k] * H.bottomRightCorner<3, 3>();
 }
 
 }  // namespace woven::model

@@ -3,52 +3,31 @@
 //
 //   E = sum_{pairs i<j, r_ij < sigma} R(r_ij)            (Eq. 2, 4; all pairs, spatial hash)
 //     + sum_{4-connected edges}        S(r_ij)            (Eq. 3, 5)
-//     + sum_{particles k} B_warp(theta_k,warp) + B_weft(theta_k,weft)   (Eq. 7, 12)
-//     + sum_{interior particles k}     T(phi_k)           (Eq. 8, 15)
-//     + sum_k m g z_k                                     (Eq. 6)
+//     + sum_{warp bends} B_warp(theta) + sum_{weft bends} B_weft(theta)   (Eq. 7, 12)
+//     + sum_{crossings}                T(phi)             (Eq. 8, 15)
+//     + sum_k m_k g z_k                                   (Eq. 6)
 //
-// Grid and thread convention (MODEL-NOTES), stated once here: particle (i, j) has index
-// i + nu * j; weft threads run along i (u direction), warp threads along j (v direction). The
-// warp bending angle at (i, j) is formed by (i, j-1), (i, j), (i, j+1) and uses the KES warp
-// curve; the weft angle by (i-1, j), (i, j), (i+1, j) with the weft curve. The trellis angle at
-// an interior particle k is the angle between (i-1,j)->(i+1,j) and (i,j-1)->(i,j+1) minus 90
-// degrees. Height is z; gravity acts along -z.
+// The grid convention is grid.hpp's; which particles each term touches, stencils.hpp's; the
+// terms themselves, terms.hpp's. Height is z; gravity acts along -z.
+#include <cassert>
 #include <vector>
 
 #include "woven/common/types.hpp"
 #include "woven/kes/fabric.hpp"
+#include "woven/kes/fit.hpp"
 #include "woven/model/energy_functions.hpp"
+#include "woven/model/grid.hpp"
+#include "woven/model/stencils.hpp"
+#include "woven/model/terms.hpp"
 
 namespace woven::model {
-
-/// The particle grid: nu x nv particles at rest spacing sigma (m).
-struct Grid {
-    int nu = 0, nv = 0;
-    double sigma = 0;
-    int index(int i, int j) const { return i + nu * j; }
-    int size() const { return nu * nv; }
-};
 
 /// The terms of Eq. (1), each summed once over the cloth (J).
 struct EnergyTerms {
     double repulsion = 0, stretch = 0, bending_warp = 0, bending_weft = 0, trellis = 0, gravity = 0;
     double total() const { return repulsion + stretch + bending_warp + bending_weft + trellis + gravity; }
-};
-
-/// What the model computes besides the energy.
-enum class Derivatives {
-    NONE,       ///< energy only
-    GRADIENT,   ///< energy and gradient
-    HESSIAN,    ///< + exact Hessian per term
-    PROJECTED,  ///< + per-term positive semi-definite Hessian (Gauss-Newton, see cloth_model.cpp)
-};
-
-/// Receives each term's local contribution: n particles, the value, the gradient (3n) and, when
-/// asked, the Hessian (3n x 3n, column-major). Solvers scatter these into their own storage.
-class StencilSink {
-public:
-    virtual ~StencilSink() = default;
-    virtual void add(const int* particles, int n, const double* gradient, const double* hessian) = 0;
+    double& operator[](Term t);
+    double operator[](Term t) const { return const_cast<EnergyTerms&>(*this)[t]; }
 };
 
 /// Model settings beyond the fabric (SI).
@@ -61,46 +40,107 @@ struct ModelOptions {
     double C0 = 0;
 };
 
-/// The cloth's energy of Eq. (1) with derivatives, for one fabric and grid.
+/// Particle masses (kg): W sigma^2 for every active particle (each stands for a sigma x sigma
+/// patch, MODEL-NOTES), 0 for an inactive one. W in kg/m^2.
+std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& active, double areal_density_kg_m2);
+
+/// The cloth's energy of Eq. (1) with derivatives, for one fitted fabric on one grid. Sigma is
+/// the grid's, held once: every energy function is built from it here.
 class ClothModel {
 public:
-    ClothModel(Grid grid, double particle_mass, double gravity, ThreadSpacing spacing, BendingEnergy warp, BendingEnergy weft, TrellisEnergy trellis);
+    /// `active`: one entry per grid particle (empty: all active), see stencils.hpp.
+    ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {});
 
-    /// Energy terms at x; a term is +inf in a singular configuration (trellis past 1.05 rad, a
-    /// thread folded to theta = 0, two particles at the same place). With derivatives, each
-    /// stencil's local gradient (and Hessian) is sent to `sink` (not called for zero terms).
-    EnergyTerms evaluate(const Positions& x, Derivatives what = Derivatives::NONE, StencilSink* sink = nullptr) const;
+    /// Energy terms at x, one position per grid particle; a term is +inf in a singular
+    /// configuration (terms.hpp).
+    EnergyTerms evaluate(const Positions& x) const;
+    /// The same, sending each stencil's local derivatives (as `what` asks) to `sink`
+    /// (terms.hpp, LocalSink): not for vanishing or infinite terms.
+    template <LocalSink Sink> EnergyTerms evaluate(const Positions& x, Derivatives what, Sink& sink) const;
 
     /// Total energy (J).
     double energy(const Positions& x) const { return evaluate(x).total(); }
-    /// Gradient dE/dx (N... J/m), 3n vector.
+    /// Gradient dE/dx (J/m), 3n vector.
     Eigen::VectorXd gradient(const Positions& x) const;
 
-    /// Pairs i < j closer than `radius` (default: sigma, the repulsion's support), by a spatial
-    /// hash: O(n).
-    std::vector<std::pair<int, int>> close_pairs(const Positions& x, double radius = 0) const;
+    /// Pairs i < j of active particles closer than `radius` (default: sigma, the repulsion's
+    /// support), ascending, by a spatial hash: O(n).
+    std::vector<Stencil<2>> close_pairs(const Positions& x, double radius = 0) const;
 
     const Grid& grid() const { return grid_; }
-    double particle_mass() const { return mass_; }
-    double gravity() const { return gravity_; }
+    double sigma() const { return grid_.sigma; }
+    const Stencils& stencils() const { return stencils_; }
+    bool active(int p) const { return stencils_.active[p]; }
+    /// Per-particle masses (kg).
+    const std::vector<double>& masses() const { return masses_; }
+    double mass(int p) const { return masses_[p]; }
+    /// W sigma^2 (kg): the mass of a full sigma x sigma patch, an interior particle's.
+    double particle_mass() const { return patch_mass_; }
+    double gravity() const { return gravity_; }  ///< m/s^2
     const ThreadSpacing& spacing() const { return spacing_; }
     const BendingEnergy& bending_warp() const { return warp_; }
     const BendingEnergy& bending_weft() const { return weft_; }
     const TrellisEnergy& trellis() const { return trellis_; }
 
+    StretchTerm stretch_term() const { return StretchTerm(spacing_); }
+    RepulsionTerm repulsion_term() const { return RepulsionTerm(spacing_); }
+    BendingTerm bending_term(Term warp_or_weft) const { return BendingTerm(warp_or_weft == Term::BENDING_WARP ? warp_ : weft_); }
+    TrellisTerm trellis_term() const { return TrellisTerm(trellis_); }
+    GravityTerm gravity_term(int p) const { return GravityTerm(masses_[p], gravity_); }
+
 private:
     Grid grid_;
-    double mass_, gravity_;
+    Stencils stencils_;
+    std::vector<double> masses_;
+    double patch_mass_, gravity_;
     ThreadSpacing spacing_;
     BendingEnergy warp_, weft_;
     TrellisEnergy trellis_;
 };
 
-/// Builds the model for a fabric: fits its curves (Sec. 5.1), derives B and T (Sec. 5.2-5.4),
-/// particle mass m = W sigma^2 (MODEL-NOTES) and C0.
-ClothModel make_cloth_model(const kes::FabricData& fabric, Grid grid, const ModelOptions& options);
+/// Fits the fabric's curves (kes::fit_fabric, Sec. 5.1) and builds its model (Sec. 5.2-5.4).
+ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {});
 
-/// The flat grid at height z, centred at (cx, cy), rotated by `yaw` (rad) about the vertical.
-Positions flat_grid(const Grid& grid, const Vec3& centre, double yaw = 0.0);
+// ---------------------------------------------------------------------------------------------
+
+namespace detail {
+
+/// Sums one term over its stencils and sends the local derivatives to the sink.
+template <class T, class Sink>
+double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>>& stencils, const Positions& x, Derivatives what, Sink& sink)
+{
+    constexpr int N = T::kParticles;
+    double sum = 0;
+    for (const Stencil<N>& s : stencils) {
+        const Local<N> l = term.evaluate(gather<N>(x, s), what);
+        sum += l.value;
+        if (what != Derivatives::NONE && !l.vanishes && std::isfinite(l.value)) sink.template add<N>(id, s, l, what != Derivatives::GRADIENT);
+    }
+    return sum;
+}
+
+struct NoSink {
+    template <int N> void add(Term, const Stencil<N>&, const Local<N>&, bool) { }
+};
+
+}  // namespace detail
+
+template <LocalSink Sink> EnergyTerms ClothModel::evaluate(const Positions& x, Derivatives what, Sink& sink) const
+{
+    assert(static_cast<int>(x.size()) == grid_.size());
+    EnergyTerms e;
+    // Gravity (Eq. 6), each particle with its own mass.
+    for (int p : stencils_.particles) {
+        const Local<1> l = gravity_term(p).evaluate(x[p], what);
+        e.gravity += l.value;
+        if (what != Derivatives::NONE) sink.template add<1>(Term::GRAVITY, {p}, l, false);  // linear: no Hessian
+    }
+    e.stretch = detail::add_term(Term::STRETCH, stretch_term(), stencils_.edges, x, what, sink);
+    e.repulsion = detail::add_term(Term::REPULSION, repulsion_term(), close_pairs(x), x, what, sink);
+    e.bending_warp = detail::add_term(Term::BENDING_WARP, BendingTerm(warp_), stencils_.warp_bends, x, what, sink);
+    e.bending_weft = detail::add_term(Term::BENDING_WEFT, BendingTerm(weft_), stencils_.weft_bends, x, what, sink);
+    e.trellis = detail::add_term(Term::TRELLIS, trellis_term(), stencils_.crossings, x, what, sink);
+    return e;
+}
 
 }  // namespace woven::model

@@ -8,6 +8,7 @@
 //   alpha = (2/sigma) cos(pi/8),  beta = (1/sigma) sin(pi/8)
 //
 // theta: the angle at the middle particle of three along a thread (pi when straight).
+#include <numbers>
 
 namespace woven::model {
 
@@ -20,5 +21,13 @@ struct CurvatureValue {
 
 /// Corrected Eq. (13). sigma in the unit the curvature is wanted per (the paper: cm).
 CurvatureValue thread_curvature(double theta, double sigma);
+
+/// Eq. (13), upper branch (theta > pi/4), written once: the circle through three particles
+/// spaced sigma, K = (2/sigma) cos(theta/2) = sqrt(2 (1 + c)) / sigma with c = cos(theta).
+/// As a function of c it is smooth at a straight thread (c = -1), where theta is not.
+double circle_curvature(double c, double sigma);
+
+/// cos(pi/4): the upper branch holds for c < kBranchCosine.
+inline constexpr double kBranchCosine = std::numbers::sqrt2 / 2.0;
 
 }  // namespace woven::model

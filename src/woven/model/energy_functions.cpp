@@ -58,10 +58,10 @@ Scalar3 BendingEnergy::of_cosine(double c) const
 {
     if (c >= 1.0) return kInfinite;
     const double s2 = sigma_cm_ * sigma_cm_;
-    if (c < std::numbers::sqrt2 / 2.0) {
-        // theta > pi/4: K = (2/sigma) cos(theta/2) = sqrt(2 (1 + c)) / sigma, so K^2 is affine in
-        // c and dK/dc = 1 / (sigma^2 K). The 1/K is cancelled analytically through M(K)/K.
-        const double K = std::sqrt(std::max(0.0, 2.0 * (1.0 + c))) / sigma_cm_;
+    if (c < kBranchCosine) {
+        // theta > pi/4, the circle branch: K^2 = 2 (1 + c) / sigma^2 is affine in c and
+        // dK/dc = 1 / (sigma^2 K). The 1/K is cancelled analytically through M(K)/K.
+        const double K = circle_curvature(c, sigma_cm_);
         const double Kd = std::max(K, 1e-9);  // d2 ~ 1/K: its product with |grad c|^2 ~ K^2 -> 0
         const double M = moment_.value(K), dM = moment_.slope(K), d2M = moment_.curvature(K);
         const double Ms = moment_.secant(K), dMs = moment_.secant_derivative(Kd);

@@ -1,59 +1,67 @@
 #pragma once
-// Assembly of gradient and (projected) Hessian of the cloth energy into storage the solvers use:
-// a sparse matrix with the fixed pattern of the grid stencils (so the symbolic factorisation is
-// done once), or just the 3x3 diagonal blocks (the paper solver's per-particle steps).
+// Assembly of the gradient and projected Hessian of the cloth energy into the fast solver's
+// sparse matrix. Its pattern is the model's stencils (model::Stencils::coupled_with), so the
+// symbolic factorisation is done once, plus the repulsion pairs the stencils do not couple
+// (self contact).
 #include <array>
-#include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Sparse>
 
-#include "woven/model/cloth_model.hpp"
+#include "woven/model/stencils.hpp"
+#include "woven/model/terms.hpp"
 
 namespace woven::sim {
 
-/// Gradient and Hessian in a fixed sparsity pattern: each particle is coupled to the 12 grid
-/// neighbours that share a stencil with it ((0,+-1), (+-1,0), (0,+-2), (+-2,0), (+-1,+-1)),
-/// plus given extra pairs (repulsion between particles far apart on the grid: self contact).
-/// A coupling outside the pattern keeps only its diagonal blocks. Pinned particles get identity
-/// rows and zero gradient, so a Newton step leaves them in place.
-class SparseAssembly : public model::StencilSink {
+/// Gradient and Hessian in a fixed sparsity pattern: particle p is coupled to the particles
+/// sharing a stencil with it, and to its partners in `extra_pairs`. A coupling outside the
+/// pattern keeps only its diagonal blocks. Pinned particles get identity rows and zero
+/// gradient, so a Newton step leaves them in place. A model::LocalSink.
+class SparseAssembly {
 public:
-    SparseAssembly(const model::Grid& grid, const std::vector<char>& pinned, const std::vector<std::pair<int, int>>& extra_pairs = {});
+    SparseAssembly(const model::Stencils& stencils, const std::vector<char>& pinned, const std::vector<model::Stencil<2>>& extra_pairs = {});
 
     /// Zeroes gradient and matrix values.
     void clear();
-    void add(const int* particles, int n, const double* gradient, const double* hessian) override;
+    /// Adds one stencil's local gradient and (with_hessian) Hessian.
+    template <int N> void add(model::Term, const model::Stencil<N>& ids, const model::Local<N>& local, bool with_hessian);
     /// Adds a 3x3 block on the diagonal and a gradient for particle p (inertia, contact).
     void add_particle(int p, const Mat3& hessian, const Vec3& gradient);
     /// Applies the pinned rows (identity, zero gradient); call after all adds.
     void finish();
 
+    /// Whether the pattern couples p and q (grid stencils or extra pairs).
+    bool in_pattern(int p, int q) const { return block(p, q) != nullptr; }
     Eigen::VectorXd& gradient() { return gradient_; }
     const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
 
 private:
-    int block_slot(int p, int q) const;  ///< index into offsets_ of q relative to p, or -1
-    model::Grid grid_;
+    /// Positions in valuePtr() of row 3p of columns 3q, 3q+1, 3q+2; nullptr outside the pattern.
+    const std::array<int, 3>* block(int p, int q) const;
     std::vector<char> pinned_;
     Eigen::SparseMatrix<double> matrix_;
     Eigen::VectorXd gradient_;
-    /// For particle p and neighbour slot k: position in valuePtr() of row 3p in column 3q+b.
-    std::vector<std::array<int, 3>> block_positions_;
-    /// Extra pairs (p, q) in both orders -> positions as above.
-    std::unordered_map<std::int64_t, std::array<int, 3>> extra_positions_;
-    const std::array<int, 3>* block(int p, int q) const;
+    /// Block row p: columns partners_[row_[p] .. row_[p+1]) ascending, value positions positions_.
+    std::vector<int> row_, partners_;
+    std::vector<std::array<int, 3>> positions_;
 };
 
-/// Gradient and 3x3 diagonal blocks of the Hessian only.
-class DiagonalAssembly : public model::StencilSink {
-public:
-    explicit DiagonalAssembly(int particles);
-    void clear();
-    void add(const int* particles, int n, const double* gradient, const double* hessian) override;
-    std::vector<Vec3, Eigen::aligned_allocator<Vec3>> gradient;
-    std::vector<Mat3, Eigen::aligned_allocator<Mat3>> diagonal;
-};
+template <int N> void SparseAssembly::add(model::Term, const model::Stencil<N>& ids, const model::Local<N>& local, bool with_hessian)
+{
+    for (int k = 0; k < N; ++k)
+        if (!pinned_[ids[k]]) gradient_.segment<3>(3 * ids[k]) += local.gradient.template segment<3>(3 * k);
+    if (!with_hessian) return;
+    double* values = matrix_.valuePtr();
+    for (int kq = 0; kq < N; ++kq) {
+        if (pinned_[ids[kq]]) continue;
+        for (int kp = 0; kp < N; ++kp) {
+            if (pinned_[ids[kp]]) continue;
+            const std::array<int, 3>* pos = block(ids[kp], ids[kq]);
+            if (!pos) continue;  // outside the pattern: the diagonal blocks carry it
+            for (int b = 0; b < 3; ++b)
+                for (int a = 0; a < 3; ++a) values[(*pos)[b] + a] += local.hessian(3 * kp + a, 3 * kq + b);
+        }
+    }
+}
 
 }  // namespace woven::sim

@@ -17,6 +17,8 @@ std::vector<char> pinned_mask(const Problem& problem)
 {
     std::vector<char> mask(problem.initial.size(), 0);
     for (int p : problem.pinned) mask.at(p) = 1;
+    for (size_t p = 0; p < mask.size(); ++p)
+        if (!problem.model->active(static_cast<int>(p))) mask[p] = 1;  // not part of the cloth
     return mask;
 }
 
@@ -51,11 +53,11 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
         }
     std::vector<char> is_pinned(x.size(), 0);
     for (int p : pinned) is_pinned.at(p) = 1;
-    // Without gravity the residual is measured against the particle's weight in standard gravity.
-    const double weight = model.particle_mass() * (model.gravity() > 0 ? model.gravity() : units::kStandardGravity);
+    // Each particle against its own weight; without gravity, its weight in standard gravity.
+    const double gravity = model.gravity() > 0 ? model.gravity() : units::kStandardGravity;
     double r = 0;
     for (size_t i = 0; i < x.size(); ++i)
-        if (!is_pinned[i]) r = std::max(r, force[i].norm() / weight);
+        if (!is_pinned[i] && model.active(static_cast<int>(i))) r = std::max(r, force[i].norm() / (model.mass(static_cast<int>(i)) * gravity));
     return r;
 }
 

@@ -27,8 +27,9 @@ struct FastSolver {
     const model::ClothModel& model;
     const geometry::ObstacleSet& obstacles;
     const SolverOptions& options;
-    std::vector<char> pinned;
-    double mass, weight;
+    std::vector<char> pinned;  ///< pinned or inactive: held in place
+    const std::vector<double>& mass;  ///< per particle (kg)
+    std::vector<double> weight;  ///< m g per particle (N), g standard gravity when the model has none
     Barrier barrier;
     std::vector<FrictionContact> friction;  ///< frozen at the step's start
     /// Friction smoothing: a contact sticks (force below mu lambda) while it slips less than
@@ -36,20 +37,20 @@ struct FastSolver {
     static constexpr double slip_eps = 1e-4;  // m
 
     FastSolver(const Problem& problem, const SolverOptions& o)
-        : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem))
+        : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem)), mass(model.masses())
     {
-        mass = model.particle_mass();
-        weight = mass * (model.gravity() > 0 ? model.gravity() : units::kStandardGravity);
-        // A particle's weight is held at about 0.7 d^ above a surface; an edge carrying a
-        // hanging flap comes closer but never touches.
-        barrier = Barrier{options.contact_distance, 10.0 * weight / options.contact_distance};
+        const double g = model.gravity() > 0 ? model.gravity() : units::kStandardGravity;
+        for (double m : mass) weight.push_back(m * g);
+        // An interior particle's weight is held at about 0.7 d^ above a surface; an edge carrying
+        // a hanging flap comes closer but never touches.
+        barrier = Barrier{options.contact_distance, 10.0 * (model.particle_mass() * g) / options.contact_distance};
     }
 
     /// Phi at x (inertia toward x_tilde with 1/h^2 = inv_h2); +inf if any term is singular.
     double incremental_potential(const Positions& x, const Positions& x_tilde, double inv_h2) const
     {
         double phi = 0;
-        for (size_t i = 0; i < x.size(); ++i) phi += 0.5 * mass * inv_h2 * (x[i] - x_tilde[i]).squaredNorm();
+        for (size_t i = 0; i < x.size(); ++i) phi += 0.5 * mass[i] * inv_h2 * (x[i] - x_tilde[i]).squaredNorm();
         for (size_t o = 0; o < obstacles.size(); ++o)
             for (size_t i = 0; i < x.size(); ++i) {
                 const double d = obstacles[o].distance(x[i]);
@@ -64,9 +65,9 @@ struct FastSolver {
     void assemble(SparseAssembly& system, const Positions& x, const Positions& x_tilde, double inv_h2) const
     {
         system.clear();
-        model.evaluate(x, model::Derivatives::PROJECTED, &system);
-        const Mat3 inertia = mass * inv_h2 * Mat3::Identity();
-        for (size_t i = 0; i < x.size(); ++i) system.add_particle(static_cast<int>(i), inertia, mass * inv_h2 * (x[i] - x_tilde[i]));
+        model.evaluate(x, model::Derivatives::PROJECTED, system);
+        for (size_t i = 0; i < x.size(); ++i)
+            system.add_particle(static_cast<int>(i), mass[i] * inv_h2 * Mat3::Identity(), mass[i] * inv_h2 * (x[i] - x_tilde[i]));
         for (const Contact& c : find_contacts(obstacles, x, barrier.d_hat))
             system.add_particle(c.particle, barrier.d2(c.distance) * c.normal * c.normal.transpose(), barrier.d1(c.distance) * c.normal);
         for (const FrictionContact& f : friction) system.add_particle(f.particle, f.hessian(x[f.particle], slip_eps), f.gradient(x[f.particle], slip_eps));
@@ -74,16 +75,12 @@ struct FastSolver {
     }
 };
 
-/// Repulsion pairs whose particles are not grid neighbours sharing a stencil (self contact).
-std::vector<std::pair<int, int>> off_pattern_pairs(const model::ClothModel& model, const Positions& x)
+/// Repulsion pairs whose particles share no stencil (self contact).
+std::vector<model::Stencil<2>> off_pattern_pairs(const model::ClothModel& model, const Positions& x)
 {
-    std::vector<std::pair<int, int>> out;
-    const int nu = model.grid().nu;
-    for (const auto& [p, q] : model.close_pairs(x)) {
-        const int di = std::abs(p % nu - q % nu), dj = std::abs(p / nu - q / nu);
-        const bool in_pattern = di + dj <= 2;  // the offsets of SparseAssembly
-        if (!in_pattern) out.emplace_back(p, q);
-    }
+    std::vector<model::Stencil<2>> out;
+    for (const model::Stencil<2>& pq : model.close_pairs(x))
+        if (!model.stencils().coupled(pq[0], pq[1])) out.push_back(pq);
     return out;
 }
 
@@ -105,10 +102,10 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
 
     Result result;
     Positions x = problem.initial, v(n, Vec3::Zero()), x_tilde(n), x_prev, trial(n), dx(n);
-    SparseAssembly system(model.grid(), solver.pinned);
+    SparseAssembly system(model.stencils(), solver.pinned);
     NewtonLinearSolver linear;
     Eigen::VectorXd delta;
-    std::vector<std::pair<int, int>> extra_pairs;
+    std::vector<model::Stencil<2>> extra_pairs;
 
     double h = options.time_step;
     for (int step = 1; step <= max_steps; ++step) {
@@ -124,19 +121,20 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         for (; iterations < kMaxNewton; ++iterations) {
             // Self contact: pairs closer than sigma that the grid pattern does not couple get
             // their own blocks (a changed set means a new symbolic factorisation).
-            std::vector<std::pair<int, int>> extra = off_pattern_pairs(model, x);
+            std::vector<model::Stencil<2>> extra = off_pattern_pairs(model, x);
             if (extra != extra_pairs) {
                 extra_pairs = std::move(extra);
-                system = SparseAssembly(model.grid(), solver.pinned, extra_pairs);
+                system = SparseAssembly(model.stencils(), solver.pinned, extra_pairs);
             }
             solver.assemble(system, x, x_tilde, inv_h2);
             const Eigen::VectorXd& g = system.gradient();
-            double g_max = 0;
-            for (int i = 0; i < n; ++i) g_max = std::max(g_max, g.segment<3>(3 * i).norm());
+            double g_max = 0;  // largest |g_i| / (m_i g) over free particles
+            for (int i = 0; i < n; ++i)
+                if (!solver.pinned[i]) g_max = std::max(g_max, g.segment<3>(3 * i).norm() / solver.weight[i]);
             // Dynamic steps need much less accuracy than the final static solve (its tolerance
             // is below the equilibrium test's, which lets obstacles push).
             const double newton_tolerance = h < kStaticStep ? std::max(kDynamicTolerance, options.residual_tolerance) : 0.5 * options.residual_tolerance;
-            if (g_max < newton_tolerance * solver.weight) {
+            if (g_max < newton_tolerance) {
                 newton_converged = true;
                 break;
             }

@@ -33,7 +33,6 @@
 
 #include <Eigen/Cholesky>
 
-#include "woven/model/stencils.hpp"
 #include "woven/sim/solvers.hpp"
 
 namespace woven::sim::detail {
@@ -74,27 +73,28 @@ bool move_particle(const geometry::ObstacleSet& obstacles, Vec3& p, Vec3 d, doub
 
 /// The terms of the inter-particle energy E_int (cloth_model.hpp, all but gravity, which phase 1
 /// applies) whose value depends on one particle p, with p's gradient and the p-p block of the
-/// projected Hessian (the Gauss-Newton choices of ClothModel::evaluate with PROJECTED). When p
-/// alone moves, this local energy changes as E_int does, which lets phase 2 move particles one at
-/// a time.
+/// projected Hessian, from the model's own terms (model/terms.hpp, ParticleLocal). When p alone
+/// moves, this local energy changes as E_int does, which lets phase 2 move particles one at a
+/// time. Repulsion is evaluated on a pair list frozen for the step (set_pairs).
 class ParticleEnergy {
 public:
-    explicit ParticleEnergy(const model::ClothModel& model) : model_(model), grid_(model.grid()) { }
-
-    /// Repulsion partners: the 4-connected neighbours (which also carry stretching), the diagonal
-    /// ones (within sigma under large shear) and `close`.
-    void set_pairs(const std::vector<std::pair<int, int>>& close)
+    explicit ParticleEnergy(const model::ClothModel& model)
+        : stencils_(model.stencils()), n_(model.grid().size()), stretch_(model.stretch_term()), repulsion_(model.repulsion_term()),
+          warp_(model.bending_term(model::Term::BENDING_WARP)), weft_(model.bending_term(model::Term::BENDING_WEFT)),
+          trellis_(model.trellis_term()), warp_of_(model::make_incidence(stencils_.warp_bends, n_)),
+          weft_of_(model::make_incidence(stencils_.weft_bends, n_)), crossings_of_(model::make_incidence(stencils_.crossings, n_))
     {
-        const int n = grid_.size();
+    }
+
+    /// Repulsion partners: the edges (which also carry stretching), the particles sharing a
+    /// stencil (the diagonal ones come within sigma under large shear) and `close`.
+    void set_pairs(const std::vector<model::Stencil<2>>& close)
+    {
         links_.clear();
-        for (int j = 0; j < grid_.nv; ++j)
-            for (int i = 0; i < grid_.nu; ++i) {
-                const int p = grid_.index(i, j);
-                if (i + 1 < grid_.nu) add_link(p, grid_.index(i + 1, j), true);
-                if (j + 1 < grid_.nv) add_link(p, grid_.index(i, j + 1), true);
-                if (i + 1 < grid_.nu && j + 1 < grid_.nv) add_link(p, grid_.index(i + 1, j + 1), false);
-                if (i > 0 && j + 1 < grid_.nv) add_link(p, grid_.index(i - 1, j + 1), false);
-            }
+        for (const auto& [p, q] : stencils_.edges) add_link(p, q, true);
+        for (int p = 0; p < n_; ++p)
+            for (int q : stencils_.coupled_with(p))
+                if (q > p) add_link(p, q, false);
         for (const auto& [p, q] : close) add_link(p, q, false);
         // Sort by particle and partner; a thread link sorts first and so survives unique().
         std::sort(links_.begin(), links_.end(), [](const Link& a, const Link& b) {
@@ -102,20 +102,15 @@ public:
         });
         links_.erase(std::unique(links_.begin(), links_.end(), [](const Link& a, const Link& b) { return a.p == b.p && a.q == b.q; }),
                      links_.end());
-        first_.assign(n + 1, 0);
+        first_.assign(n_ + 1, 0);
         for (const Link& l : links_) ++first_[l.p + 1];
-        for (int p = 0; p < n; ++p) first_[p + 1] += first_[p];
+        for (int p = 0; p < n_; ++p) first_[p + 1] += first_[p];
     }
 
     /// Calls f(q) for every particle q that shares a term with p (its energy's gradient moves when p does).
     template <class F> void for_each_neighbour(int p, F f) const
     {
         for (int k = first_[p]; k < first_[p + 1]; ++k) f(links_[k].q);
-        const int i = p % grid_.nu, j = p / grid_.nu;
-        if (i >= 2) f(p - 2);
-        if (i + 2 < grid_.nu) f(p + 2);
-        if (j >= 2) f(p - 2 * grid_.nu);
-        if (j + 2 < grid_.nv) f(p + 2 * grid_.nu);
     }
 
     double value(const Positions& x, int p) const { return terms<false>(x, p, nullptr, nullptr); }
@@ -130,7 +125,7 @@ public:
 private:
     struct Link {
         int p, q;
-        bool thread;  ///< 4-connected: stretching as well as repulsion
+        bool thread;  ///< an edge: stretching as well as repulsion
     };
     void add_link(int p, int q, bool thread)
     {
@@ -140,90 +135,43 @@ private:
 
     template <bool kDerivatives> double terms(const Positions& x, int p, Vec3* g, Mat3* H) const
     {
-        const int nu = grid_.nu, nv = grid_.nv, i = p % nu, j = p / nu;
-        const model::ThreadSpacing& spacing = model_.spacing();
+        constexpr model::Derivatives what = kDerivatives ? model::Derivatives::PROJECTED : model::Derivatives::NONE;
         double e = 0;
-
-        // Repulsion (Eq. 2, 4) and stretching (Eq. 3, 5).
-        for (int k = first_[p]; k < first_[p + 1]; ++k) {
-            const Link& l = links_[k];
-            const Vec3 d = x[p] - x[l.q];
-            const double r = d.norm();
-            model::Scalar3 f;
-            if (r < spacing.sigma)
-                f = spacing.repulsion(r);
-            else if (l.thread && r > spacing.sigma)
-                f = spacing.stretch(r);
-            else
-                continue;
-            if (!std::isfinite(f.value)) return kInfinity;
-            e += f.value;
+        auto add = [&](const model::ParticleLocal& l) {
+            if (!std::isfinite(l.value)) return false;
+            e += l.value;
             if constexpr (kDerivatives) {
-                const Vec3 n = d / r;
-                const Mat3 nn = n * n.transpose();
-                *g += f.d1 * n;
-                *H += std::max(f.d2, 0.0) * nn + std::max(f.d1 / r, 0.0) * (Mat3::Identity() - nn);
-            }
-        }
-
-        // c = cos(angle between a and b) as model::cosine_between, and for particle p, which
-        // enters a and b with coefficients al and be (model/stencils.hpp), dc/dx_p in gc and
-        // the unit-vector projector M = al P_a + be P_b, whose square is p's block of
-        // model::bending_gauss_newton.
-        auto cosine = [](const Vec3& a, const Vec3& b, double al, double be, Vec3* gc, Mat3* M) {
-            const double A = a.norm(), B = b.norm();
-            const Vec3 ah = a / A, bh = b / B;
-            const double c = ah.dot(bh);
-            if constexpr (kDerivatives) {
-                *gc = al * (bh - c * ah) / A + be * (ah - c * bh) / B;
-                if (M) *M = al / A * (Mat3::Identity() - ah * ah.transpose()) + be / B * (Mat3::Identity() - bh * bh.transpose());
-            }
-            return c;
-        };
-        Vec3 gc;
-        Mat3 M;
-
-        // Bending (Eq. 7, 12, 13) of the angles at p and at its thread neighbours; `role` is p's
-        // place in the stencil (0, 1 middle, 2). Projected Hessian as in ClothModel::evaluate.
-        auto bend = [&](const model::BendingEnergy& energy, int p0, int p1, int p2, int role) {
-            const double c = cosine(x[p0] - x[p1], x[p2] - x[p1], model::kBendingStencil.alpha[role], model::kBendingStencil.beta[role], &gc, &M);
-            const model::Scalar3 f = energy.of_cosine(c);
-            if (!std::isfinite(f.value)) return false;
-            e += f.value;
-            if constexpr (kDerivatives) {
-                *g += f.d1 * gc;
-                *H += std::max(f.d2, 0.0) * gc * gc.transpose() + std::max(f.d1, 0.0) * M * M;
+                *g += l.gradient;
+                *H += l.hessian;
             }
             return true;
         };
-        for (int c = j - 1; c <= j + 1; ++c)  // warp angles at (i, c), along j
-            if (c >= 1 && c + 1 < nv && !bend(model_.bending_warp(), grid_.index(i, c - 1), grid_.index(i, c), grid_.index(i, c + 1), j - c + 1))
-                return kInfinity;
-        for (int c = i - 1; c <= i + 1; ++c)  // weft angles at (c, j), along i
-            if (c >= 1 && c + 1 < nu && !bend(model_.bending_weft(), grid_.index(c - 1, j), grid_.index(c, j), grid_.index(c + 1, j), i - c + 1))
-                return kInfinity;
-
-        // Trellising (Eq. 8, 15) at the interior 4-connected neighbours k of p; p is k's left,
-        // right, lower or upper particle (role 0..3, stencil order L R D U).
-        const int around[4][3] = {{i + 1, j, 0}, {i - 1, j, 1}, {i, j + 1, 2}, {i, j - 1, 3}};
-        for (const auto& [ki, kj, role] : around) {
-            if (ki < 1 || kj < 1 || ki + 1 >= nu || kj + 1 >= nv) continue;
-            const Vec3 u = x[grid_.index(ki + 1, kj)] - x[grid_.index(ki - 1, kj)];
-            const Vec3 v = x[grid_.index(ki, kj + 1)] - x[grid_.index(ki, kj - 1)];
-            const double c = cosine(u, v, model::kTrellisStencil.alpha[role], model::kTrellisStencil.beta[role], &gc, nullptr);
-            const model::Scalar3 f = model_.trellis().of_cosine(c);
-            if (!std::isfinite(f.value)) return kInfinity;
-            e += f.value;
-            if constexpr (kDerivatives) {
-                *g += f.d1 * gc;
-                *H += std::max(f.d2, 0.0) * gc * gc.transpose();
-            }
+        // Repulsion (Eq. 2, 4) and stretching (Eq. 3, 5), p first in each pair.
+        for (int k = first_[p]; k < first_[p + 1]; ++k) {
+            const Link& l = links_[k];
+            VecN<6> pair;
+            pair << x[p], x[l.q];
+            if (l.thread && !add(stretch_.particle(pair, 0, what))) return kInfinity;
+            if (!add(repulsion_.particle(pair, 0, what))) return kInfinity;
         }
+        // Bending (Eq. 7, 12, 13) of the angles p belongs to, and trellising (Eq. 8, 15) of the
+        // crossings p is a neighbour of; `role` is p's place in the stencil.
+        for (const auto& [k, role] : warp_of_.of(p))
+            if (!add(warp_.particle(model::gather<3>(x, stencils_.warp_bends[k]), role, what))) return kInfinity;
+        for (const auto& [k, role] : weft_of_.of(p))
+            if (!add(weft_.particle(model::gather<3>(x, stencils_.weft_bends[k]), role, what))) return kInfinity;
+        for (const auto& [k, role] : crossings_of_.of(p))
+            if (!add(trellis_.particle(model::gather<4>(x, stencils_.crossings[k]), role, what))) return kInfinity;
         return e;
     }
 
-    const model::ClothModel& model_;
-    model::Grid grid_;
+    const model::Stencils& stencils_;
+    int n_;
+    model::StretchTerm stretch_;
+    model::RepulsionTerm repulsion_;
+    model::BendingTerm warp_, weft_;
+    model::TrellisTerm trellis_;
+    model::Incidence warp_of_, weft_of_, crossings_of_;
     std::vector<Link> links_;
     std::vector<int> first_;  ///< links_ of particle p: [first_[p], first_[p + 1])
 };
@@ -238,10 +186,12 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
     const int n = model.grid().size();
     const double sigma = model.grid().sigma;
     const std::vector<char> pinned = pinned_mask(problem);
-    const double mass = model.particle_mass(), g = model.gravity();
+    const double g = model.gravity();
     const double stiffness = model.spacing().stretch(1.01 * sigma).d2;  // S'' at 1 % strain
-    const double dt = stiffness > 0 ? std::min(options.time_step, std::sqrt(mass / (4.0 * stiffness))) : options.time_step;
-    const double inertia = mass / (dt * dt);
+    // The cap uses an interior particle's mass W sigma^2.
+    const double dt = stiffness > 0 ? std::min(options.time_step, std::sqrt(model.particle_mass() / (4.0 * stiffness))) : options.time_step;
+    std::vector<double> inertia(n);  // m_i / dt^2
+    for (int i = 0; i < n; ++i) inertia[i] = model.mass(i) / (dt * dt);
     const double clearance = 0.5 * options.contact_distance;
     const int max_steps = options.max_steps > 0 ? options.max_steps : 200000;
     constexpr int kMaxSweeps = 60;  // phase 2 stops earlier when a sweep moves no particle by more than kSweepTolerance
@@ -273,9 +223,9 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
         Vec3 grad;
         Mat3 H;
         const Vec3 from = x[p];
-        const double e0 = local.derivatives(x, p, grad, H) + 0.5 * inertia * (from - x1[p]).squaredNorm();
-        grad += inertia * (from - x1[p]);
-        H += inertia * Mat3::Identity();
+        const double e0 = local.derivatives(x, p, grad, H) + 0.5 * inertia[p] * (from - x1[p]).squaredNorm();
+        grad += inertia[p] * (from - x1[p]);
+        H += inertia[p] * Mat3::Identity();
         const Eigen::LDLT<Mat3> solver(H);
         Vec3 d = -solver.solve(grad);
         // A step that would reach the nearest obstacle's surface (planar near the particle) stops
@@ -293,7 +243,7 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
             Vec3 to = from;
             move_particle(obstacles, to, alpha * d, clearance, nullptr);
             x[p] = to;
-            if (local.value(x, p) + 0.5 * inertia * (to - x1[p]).squaredNorm() < e0) return (to - from).norm();
+            if (local.value(x, p) + 0.5 * inertia[p] * (to - x1[p]).squaredNorm() < e0) return (to - from).norm();
         }
         x[p] = from;
         return 0.0;
