@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "woven/common/error.hpp"
+#include "woven/geometry/primitives.hpp"
 
 namespace woven::analysis {
 
@@ -88,6 +89,22 @@ int BoxFootprint::quadrant(const Vec2& p) const
     const Vec2 q = to_local(p);
     if (q.x() >= 0) return q.y() >= 0 ? 0 : 3;
     return q.y() >= 0 ? 1 : 2;
+}
+
+std::optional<BoxFootprint> box_footprint(const geometry::ObstacleSet& obstacles)
+{
+    std::optional<BoxFootprint> best;
+    for (std::size_t k = 0; k < obstacles.size(); ++k) {
+        const auto* box = dynamic_cast<const geometry::Box*>(&obstacles[k]);
+        if (!box) continue;
+        BoxFootprint f;
+        f.centre = box->centre().head<2>();
+        f.half = box->half_extents().head<2>();
+        f.yaw_rad = box->yaw();
+        f.top_z = box->centre().z() + box->half_extents().z();
+        if (!best || f.top_z > best->top_z) best = f;
+    }
+    return best;
 }
 
 std::vector<Section> slice(const geometry::TriangleMesh& mesh, double height)

@@ -15,9 +15,11 @@
 // as a loop (no start): a billow that straddles the point where the loop happens to start is
 // one billow. All lengths in m, angles in degrees.
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "woven/common/types.hpp"
+#include "woven/geometry/obstacle.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
 
 namespace woven::analysis {
@@ -43,6 +45,10 @@ struct BoxFootprint {
     /// The corner whose quadrant of the box frame holds p (0..3).
     int quadrant(const Vec2& p) const;
 };
+
+/// The footprint of the scene's box obstacle with the highest top face (the paper's cube, a
+/// table top made of a box), or std::nullopt when the scene has no box.
+std::optional<BoxFootprint> box_footprint(const geometry::ObstacleSet& obstacles);
 
 /// Settings of the fold analysis.
 struct FoldOptions {

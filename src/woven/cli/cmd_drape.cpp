@@ -1,12 +1,14 @@
 // woven drape [SCENE]: drape a cloth over a scene's obstacles and write drape.obj, drape.ply,
 // drape.png and report.json.
 #include <cmath>
+#include <optional>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "woven/analysis/folds.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/progress.hpp"
 #include "woven/cli/report.hpp"
@@ -14,72 +16,32 @@
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/scene_file.hpp"
-#include "woven/render/raytracer.hpp"
+#include "woven/render/drape_view.hpp"
 
 namespace woven::cli {
 
 namespace {
 
-/// The cloth grid as a render mesh (the triangles of io::cloth_obj), uv in thread counts.
-render::RenderMesh cloth_mesh(const Positions& x, const model::Grid& grid)
+/// drape.png: the cloth (a smooth surface through the particles, the fabric's colour) over the
+/// obstacles, seen along the scene camera's direction (if it has one), framed tightly.
+render::Image render_drape(const Positions& x, const model::Grid& grid, const io::SceneSpec& scene,
+                           const kes::FabricData& fabric, int width, int height)
 {
-    render::RenderMesh m;
-    m.mesh.vertices.assign(x.begin(), x.end());
-    for (int j = 0; j + 1 < grid.nv; ++j)
-        for (int i = 0; i + 1 < grid.nu; ++i) {
-            const int a = grid.index(i, j), b = grid.index(i + 1, j), c = grid.index(i + 1, j + 1),
-                      d = grid.index(i, j + 1);
-            m.mesh.faces.emplace_back(a, b, c);
-            m.mesh.faces.emplace_back(a, c, d);
-        }
-    m.uv.reserve(x.size());
-    for (int j = 0; j < grid.nv; ++j)
-        for (int i = 0; i < grid.nu; ++i) m.uv.emplace_back(double(i), double(j));
-    m.color = Vec3(0.70, 0.28, 0.16);  // warm terracotta
-    m.cloth = true;
-    return m;
-}
-
-render::Image render_drape(const Positions& x, const model::Grid& grid, const io::SceneSpec& scene, int width,
-                           int height)
-{
-    // The picture gives the cloth a thickness: particles closer than 0.2 sigma to an obstacle
-    // are drawn lifted to 0.2 sigma, so that a curved surface (the chair's arms) does not show
-    // through the flat triangles between particles. The OBJ/PLY keep the computed positions.
-    Positions shown = x;
-    const double thickness = 0.2 * grid.sigma;
-    for (Vec3& p : shown)
-        for (std::size_t k = 0; k < scene.obstacles.size(); ++k) {
-            const geometry::Obstacle& o = scene.obstacles[k];
-            if (o.distance(p) >= thickness) continue;
-            const geometry::ClosestPoint c = o.closest(p);
-            p += (thickness - c.distance) * c.normal;
-        }
-    std::vector<render::RenderMesh> meshes;
-    meshes.push_back(cloth_mesh(shown, grid));
-    geometry::Aabb frame;
-    for (const Vec3& p : x) frame.extend(p);
-    for (std::size_t k = 0; k < scene.obstacles.size(); ++k) {
-        const geometry::Obstacle& o = scene.obstacles[k];
-        render::RenderMesh m;
-        m.mesh = o.tessellate();
-        const bool ground = o.kind() == "plane";
-        m.color = ground ? Vec3(0.85, 0.85, 0.83) : Vec3(0.72, 0.72, 0.72);
-        meshes.push_back(std::move(m));
-        if (!ground) frame.extend(o.bounds());  // planes are large: framing ignores them
-    }
-    render::Camera camera;
+    render::DrapeScene ds;
+    ds.cloth = render::grid_surface(x, grid.nu, grid.nv);
+    ds.cloth_color = render::fabric_color(fabric.color);
+    ds.obstacles = &scene.obstacles;
     if (scene.camera.given) {
-        camera.eye = scene.camera.eye;
-        camera.target = scene.camera.target;
-        camera.fov_deg = scene.camera.fov_deg;
-    } else {
-        camera = render::frame_box(frame.lo, frame.hi);
+        render::Camera c;
+        c.eye = scene.camera.eye;
+        c.target = scene.camera.target;
+        c.fov_deg = scene.camera.fov_deg;
+        ds.scene_camera = c;
     }
     render::RenderOptions ro;
     ro.width = width;
     ro.height = height;
-    return woven::render::render(meshes, camera, ro);
+    return render::render_drape(ds, render::view_camera(ds, render::View::SCENE, double(width) / height), ro);
 }
 
 }  // namespace
@@ -145,7 +107,7 @@ int run_drape(const DrapeOptions& options)
     io::write_file_atomic(out("drape.ply"), io::cloth_ply(result.x, grid.nu, grid.nv));
     written.push_back("drape.ply");
     if (!options.no_render) {
-        render::write_png(render_drape(result.x, grid, scene, options.width, options.height), out("drape.png"));
+        render::write_png(render_drape(result.x, grid, scene, fabric, options.width, options.height), out("drape.png"));
         written.push_back("drape.png");
     }
     DrapeReportInput in;
@@ -160,6 +122,10 @@ int run_drape(const DrapeOptions& options)
     in.energy_initial = energy_initial;
     in.interrupted = interrupted;
     in.outputs = written;
+    std::optional<analysis::FoldAnalysis> folds;  // over a box (the paper's cube): the corner folds
+    if (const auto box = analysis::box_footprint(scene.obstacles))
+        folds = analysis::analyse_folds(analysis::grid_mesh(result.x, grid.nu, grid.nv), *box);
+    in.folds = folds ? &*folds : nullptr;
     const nlohmann::json report = drape_report(in);
     io::write_file_atomic(out("report.json"), report.dump(2) + "\n");
     written.push_back("report.json");

@@ -52,6 +52,8 @@ void add_fabrics_command(CLI::App& app, int& exit_code);
 void add_scenes_command(CLI::App& app, int& exit_code);
 void add_fit_command(CLI::App& app, int& exit_code);
 void add_drape_command(CLI::App& app, int& exit_code);
+void add_render_command(CLI::App& app, int& exit_code);      // cmd_render.cpp
+void add_experiment_command(CLI::App& app, int& exit_code);  // cmd_experiment.cpp
 
 int run_fabrics(const FabricsOptions& options);
 int run_scenes(const ScenesOptions& options);

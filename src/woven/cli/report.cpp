@@ -131,7 +131,69 @@ nlohmann::json drape_report(const DrapeReportInput& in)
                 {"B_weft_gf_cm2_cm", kv.B_weft},
                 {"G_gf_cm_deg", kv.G}};
     j["outputs"] = in.outputs;
+    j["folds"] = in.folds ? folds_json(*in.folds) : nlohmann::json(nullptr);
     return j;
+}
+
+nlohmann::json folds_json(const analysis::FoldAnalysis& fa, const analysis::FoldOptions& options)
+{
+    nlohmann::json f;
+    f["heights_m"] = nlohmann::json::array();
+    f["depths_m"] = nlohmann::json::array();
+    f["sections"] = nlohmann::json::array();
+    for (const auto& s : fa.sections) {
+        f["heights_m"].push_back(num(s.height_m));
+        f["depths_m"].push_back(num(s.depth_m));
+        f["sections"].push_back({{"height_m", num(s.height_m)}, {"found", s.found}, {"closed", s.closed},
+                                 {"length_m", num(s.length_m)}});
+    }
+    f["prominence_m"] = options.prominence_m;
+    f["corners"] = nlohmann::json::array();
+    for (int c = 0; c < 4; ++c) {
+        nlohmann::json corner{{"corner", c}, {"billows", nlohmann::json::array()}, {"angles_deg", nlohmann::json::array()},
+                              {"standout_m", nlohmann::json::array()}};
+        for (const auto& s : fa.sections) {
+            nlohmann::json angles = nlohmann::json::array(), standout = nlohmann::json::array();
+            for (const auto& b : s.at_corner(c)) {
+                angles.push_back(num(b.angle_deg));
+                standout.push_back(num(b.standout_m));
+            }
+            corner["billows"].push_back(angles.size());
+            corner["angles_deg"].push_back(angles);
+            corner["standout_m"].push_back(standout);
+        }
+        f["corners"].push_back(corner);
+    }
+    f["lowest_point_m"] = vec(fa.lowest_point);
+    f["hanging_m"] = {num(fa.hanging_m[0]), num(fa.hanging_m[1]), num(fa.hanging_m[2]), num(fa.hanging_m[3])};
+    f["projected_area_m2"] = num(fa.projected_area_m2);
+    return f;
+}
+
+std::string folds_summary(const nlohmann::json& f)
+{
+    static const char* names[4] = {"+x +y", "-x +y", "-x -y", "+x -y"};
+    std::ostringstream s;
+    char buf[96];
+    for (int c = 0; c < 4; ++c) {
+        const auto& corner = f["corners"][c];
+        s << "corner " << c << " (" << names[c] << "):";
+        for (std::size_t h = 0; h < f["heights_m"].size(); ++h) {
+            const auto& angles = corner["angles_deg"][h];
+            const auto& standout = corner["standout_m"][h];
+            std::snprintf(buf, sizeof buf, "%s %zu billow%s at z %.2f m", h ? ";" : "", angles.size(),
+                          angles.size() == 1 ? "" : "s", f["heights_m"][h].is_number() ? f["heights_m"][h].get<double>() : 0.0);
+            s << buf;
+            for (std::size_t k = 0; k < angles.size(); ++k) {
+                std::snprintf(buf, sizeof buf, "%s%+.0f deg %.3f m", k ? ", " : " (", angles[k].is_number() ? angles[k].get<double>() : 0.0,
+                              standout[k].is_number() ? standout[k].get<double>() : 0.0);
+                s << buf;
+            }
+            if (!angles.empty()) s << ")";
+        }
+        s << "\n";
+    }
+    return s.str();
 }
 
 std::string drape_summary(const nlohmann::json& r)
@@ -156,6 +218,7 @@ std::string drape_summary(const nlohmann::json& r)
       << r["contact"]["particles"] << " particles in contact\n";
     s << "strain:      max " << g(r["strain"]["max"]) << ", min " << g(r["strain"]["min"]) << ", mean "
       << g(r["strain"]["mean"]) << "\n";
+    if (r.contains("folds") && r["folds"].is_object()) s << folds_summary(r["folds"]);
     return s.str();
 }
 

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "woven/analysis/folds.hpp"
 #include "woven/common/types.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/kes/fabric.hpp"
@@ -50,7 +51,16 @@ struct DrapeReportInput {
     double energy_initial = 0;  ///< J
     bool interrupted = false;
     std::vector<std::string> outputs;  ///< files written besides report.json
+    const analysis::FoldAnalysis* folds = nullptr;  ///< the corner folds over a box, or null (report: null)
 };
+
+/// report.json's `folds`: `heights_m`, `depths_m`, `prominence_m`, `corners` (four: `billows`
+/// per height, `angles_deg` and `standout_m` per height and billow), `sections`,
+/// `lowest_point_m`, `hanging_m` (+x, +y, -x, -y sides), `projected_area_m2`.
+nlohmann::json folds_json(const analysis::FoldAnalysis& folds, const analysis::FoldOptions& options = {});
+
+/// One line per corner: "corner 0 (+x +y): 1 billow at 0.40 m (+2.1 deg, 0.081 m); ...".
+std::string folds_summary(const nlohmann::json& folds);
 
 /// report.json (keys documented in README.md).
 nlohmann::json drape_report(const DrapeReportInput& in);

@@ -137,6 +137,10 @@ kes::FabricData parse_fabric(std::string_view toml_text, const std::string& sour
     f.bending_weft = read_bending(*bending.table("weft", true));
     f.shear = read_shear(*r.table("shear", true));
     if (const auto tensile = r.table("tensile")) f.tensile = read_tensile(*tensile);
+    if (r.has("color")) {  // display colour only (docs/FABRIC-FORMAT.md)
+        const Eigen::Vector3d c = r.vec<3>("color", Range{0, 1, false, "(sRGB)"}, std::nullopt);
+        f.color = std::array<double, 3>{c[0], c[1], c[2]};
+    }
     std::vector<std::string> warnings = reader.unknown_keys();
 
     // Value-level checks (ranges, curve shape): kes::validate throws InputError naming the field.

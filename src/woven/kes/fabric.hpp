@@ -1,6 +1,7 @@
 #pragma once
 // A fabric as measured on the Kawabata Evaluation System: areal density, first-stage bending
 // curves (warp, weft; KES-FB2) and the first-stage shear curve (KES-FB1), in KES units.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,6 +50,7 @@ struct FabricData {
     Measured<BendingSummary> bending_weft;  ///< KES-FB2, weft direction
     Measured<ShearSummary> shear;           ///< KES-FB1
     std::optional<TensileSummary> tensile;
+    std::optional<std::array<double, 3>> color;  ///< display colour for pictures, sRGB in 0..1 (no physics)
 };
 
 /// KES instrument ranges and slope windows (KES-FB2 bending, KES-FB1 shear).

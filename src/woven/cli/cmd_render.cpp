@@ -1,0 +1,132 @@
+// woven render MESH: a picture of a draped cloth (drape.obj) over a scene's obstacles, from one
+// of the views of the paper's Fig. 8.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "woven/cli/commands.hpp"
+#include "woven/common/error.hpp"
+#include "woven/geometry/primitives.hpp"
+#include "woven/io/fabric_file.hpp"
+#include "woven/io/mesh_file.hpp"
+#include "woven/io/scene_file.hpp"
+#include "woven/render/drape_view.hpp"
+
+namespace woven::cli {
+
+namespace {
+
+struct RenderCommandOptions {
+    std::string mesh;
+    std::optional<std::string> scene;
+    std::optional<std::string> fabric;
+    std::string view;  // empty: scene with --scene, else corner
+    std::string size = "1024x768";
+    std::string out = "render.png";
+};
+
+/// "WxH" -> (W, H), each 1..16384.
+std::pair<int, int> parse_size(const std::string& s)
+{
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
+        w > 16384 || h > 16384)
+        throw InputError("command line", "--size", "expected WxH, each 1 .. 16384 pixels (e.g. 1024x768)");
+    return {w, h};
+}
+
+/// The grid size written by io::cloth_obj ("# grid NU x NV particles"), if the file has one.
+std::optional<std::pair<int, int>> obj_grid(const std::string& path)
+{
+    std::ifstream in(path);
+    std::string line;
+    for (int n = 0; n < 20 && std::getline(in, line); ++n) {
+        int nu = 0, nv = 0;
+        if (std::sscanf(line.c_str(), "# grid %d x %d", &nu, &nv) == 2 && nu >= 2 && nv >= 2) return std::pair{nu, nv};
+    }
+    return std::nullopt;
+}
+
+int run_render(const RenderCommandOptions& o)
+{
+    const std::string cl = "command line";
+    const auto [width, height] = parse_size(o.size);
+    std::string view_name = o.view.empty() ? (o.scene ? "scene" : "corner") : o.view;
+    const auto view = render::parse_view(view_name);
+    if (!view) throw InputError(cl, "--view", "expected front, corner, side, top or scene");
+    if (o.out.empty()) throw InputError(cl, "--out", "expected a PNG file name");
+
+    std::vector<std::string> warnings;
+    std::optional<io::SceneSpec> scene;
+    if (o.scene) scene = io::find_scene(*o.scene, &warnings);
+    std::string fabric_name = o.fabric ? *o.fabric : scene ? scene->fabric : std::string("cotton");
+    const kes::FabricData fabric = io::find_fabric(fabric_name, &warnings);
+    print_warnings(warnings);
+
+    const geometry::TriangleMesh mesh = io::load_obj_mesh(o.mesh);
+    render::DrapeScene ds;
+    const auto grid = obj_grid(o.mesh);
+    if (grid && mesh.vertices.size() == static_cast<std::size_t>(grid->first) * grid->second) {
+        const Positions x(mesh.vertices.begin(), mesh.vertices.end());
+        ds.cloth = render::grid_surface(x, grid->first, grid->second);
+    } else {  // any other mesh: drawn as it is, without thread lines
+        ds.cloth.mesh = mesh;
+        double len = 0;
+        for (const auto& f : mesh.faces) len += (mesh.vertices[f[0]] - mesh.vertices[f[1]]).norm();
+        ds.cloth.spacing_m = mesh.faces.empty() ? 0 : len / mesh.faces.size();
+    }
+    ds.cloth_color = render::fabric_color(fabric.color);
+
+    geometry::ObstacleSet floor_only;  // without a scene: a floor under the lowest vertex
+    if (scene) {
+        ds.obstacles = &scene->obstacles;
+        if (scene->camera.given) {
+            render::Camera c;
+            c.eye = scene->camera.eye;
+            c.target = scene->camera.target;
+            c.fov_deg = scene->camera.fov_deg;
+            ds.scene_camera = c;
+        }
+    } else {
+        double zmin = mesh.vertices.front().z();
+        for (const Vec3& v : mesh.vertices) zmin = std::min(zmin, v.z());
+        floor_only.add(std::make_unique<geometry::Plane>(Vec3(0, 0, zmin), Vec3::UnitZ()));
+        ds.obstacles = &floor_only;
+    }
+    render::RenderOptions ro;
+    ro.width = width;
+    ro.height = height;
+    const render::Image img = render::render_drape(ds, render::view_camera(ds, *view, double(width) / height), ro);
+    render::write_png(img, o.out);
+    std::cout << "wrote " << o.out << " (" << width << " x " << height << ", view " << render::view_name(*view) << ")\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app, int& exit_code)
+{
+    auto o = std::make_shared<RenderCommandOptions>();
+    CLI::App* sub = app.add_subcommand("render", "Render a draped cloth mesh (drape.obj) over a scene's obstacles");
+    sub->footer("Views (the paper's Fig. 8): front (from -y), corner (the +x -y corner along its diagonal, 20 deg "
+                "above), side (from +x), top, scene (the scene camera's direction). The camera frames the cloth "
+                "and obstacles tightly. A mesh written by woven drape is drawn as a smooth surface through its "
+                "particles with thread lines (warp darker than weft).");
+    sub->add_option("MESH", o->mesh, "The cloth: an OBJ file (e.g. out/drape.obj)")->required();
+    sub->add_option("--scene", o->scene, "The scene whose obstacles to draw (built-in name or .toml); else a floor only");
+    sub->add_option("--fabric", o->fabric, "The fabric whose colour to use (default: the scene's, else cotton)");
+    sub->add_option("--view", o->view, "front, corner, side, top or scene (default: scene with --scene, else corner)");
+    sub->add_option("--size", o->size, "Picture size WxH in pixels")->capture_default_str();
+    sub->add_option("--out", o->out, "Output PNG file")->capture_default_str();
+    sub->callback([o, &exit_code] { exit_code = run_render(*o); });
+}
+
+}  // namespace woven::cli
