@@ -327,8 +327,9 @@ ClothCut cut_grid(const Grid& g, const Outline& outline, const std::string& sour
     return cut;
 }
 
-geometry::TriangleMesh cut_surface(const Grid& g, const ClothCut& cut, const Positions& x)
+geometry::TriangleMesh cut_surface(const Grid& g, const ClothCut& cut, const Positions& x, std::vector<Vec2>* uv)
 {
+    if (uv) uv->clear();
     const int n = g.size();
     // Positions of every grid point: kept particles as they are, dropped ones extrapolated.
     Positions at(n, Vec3::Constant(NAN));
@@ -383,6 +384,7 @@ geometry::TriangleMesh cut_surface(const Grid& g, const ClothCut& cut, const Pos
         if (vertex_of[p] < 0) {
             vertex_of[p] = static_cast<int>(mesh.vertices.size());
             mesh.vertices.push_back(at[p]);
+            if (uv) uv->push_back(rest_uv(g, p % g.nu, p / g.nu) / g.sigma);
         }
         return vertex_of[p];
     };
@@ -407,6 +409,7 @@ geometry::TriangleMesh cut_surface(const Grid& g, const ClothCut& cut, const Pos
                 for (const Vec2& q : t) {
                     const double u = (q.x() - lo.x()) / s, v = (q.y() - lo.y()) / s;
                     mesh.vertices.push_back((1 - u) * (1 - v) * at[p00] + u * (1 - v) * at[p10] + (1 - u) * v * at[p01] + u * v * at[p11]);
+                    if (uv) uv->push_back(q / s);
                 }
                 mesh.faces.emplace_back(base, base + 1, base + 2);
             }

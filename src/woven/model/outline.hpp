@@ -102,7 +102,9 @@ ClothCut cut_grid(const Grid& grid, const Outline& outline, const std::string& s
 /// The surface of a cut cloth at positions x, as triangles: each grid cell clipped to the
 /// outline (in the rest plane) and mapped bilinearly through its four corner particles; a
 /// dropped corner is extrapolated linearly along a thread from kept particles (else across the
-/// cell's diagonal). A flat cloth's surface is the outline exactly (area to rounding).
-geometry::TriangleMesh cut_surface(const Grid& grid, const ClothCut& cut, const Positions& x);
+/// cell's diagonal). A flat cloth's surface is the outline exactly (area to rounding). With
+/// `uv`, also each vertex's rest position in particle spacings (u along the weft, v along the
+/// warp), one per vertex.
+geometry::TriangleMesh cut_surface(const Grid& grid, const ClothCut& cut, const Positions& x, std::vector<Vec2>* uv = nullptr);
 
 }  // namespace woven::model

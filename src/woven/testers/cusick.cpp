@@ -1,0 +1,87 @@
+#include "woven/testers/cusick.hpp"
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "woven/common/error.hpp"
+#include "woven/geometry/primitives.hpp"
+
+namespace woven::testers {
+
+namespace {
+
+constexpr const char* kSource = "cusick";
+/// Floor below the lowest point the hanging part can reach (m).
+constexpr double kFloorClearance = 0.10;
+/// Most particles in the grid (a 30 cm specimen at 0.5 mm): beyond, a run would not end.
+constexpr double kMaxParticles = 400000;
+
+std::string num(double v)
+{
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+}  // namespace
+
+CusickSetup make_cusick_setup(const CusickOptions& o)
+{
+    const double R = 0.5 * o.specimen_diameter_m, rd = 0.5 * o.disc_diameter_m, s = o.spacing_m;
+    if (!std::isfinite(R) || !(R > 0)) throw InputError(kSource, "specimen_diameter_m", "expected a positive diameter in m");
+    if (!std::isfinite(rd) || !(rd > 0) || !(rd < R))
+        throw InputError(kSource, "disc_diameter_m", "expected a positive diameter below the specimen's (" + num(2 * R) + " m)");
+    if (!std::isfinite(s) || !(s > 0) || !(R - rd >= 2 * s) || !(2 * R >= 8 * s))
+        throw InputError(kSource, "spacing_m",
+            "expected a positive spacing of at most a half of the overhang (" + num(0.5 * (R - rd)) + " m) and an eighth of the specimen");
+    if (std::pow(2 * R / s, 2) > kMaxParticles) throw InputError(kSource, "spacing_m", "expected a spacing above " + num(2 * R / std::sqrt(kMaxParticles)) + " m");
+    if (!(o.disc_thickness_m > 0) || !(o.pedestal_radius_m > 0) || !(o.pedestal_radius_m <= rd))
+        throw InputError(kSource, "disc_thickness_m", "expected a positive disc thickness and a pedestal no wider than the disc");
+
+    CusickSetup c;
+    // An odd number of particles a side (one at the centre), covering the specimen and one
+    // particle beyond it all round.
+    const int n = 2 * static_cast<int>(std::ceil(R / s)) + 3;
+    c.grid.nu = c.grid.nv = n;
+    c.grid.sigma = s;
+    c.outline.kind = model::Outline::Kind::DISC;
+    c.outline.radius = R;
+    c.cut = model::cut_grid(c.grid, c.outline, kSource, "specimen");
+
+    c.disc_top_z = (R - rd) + kFloorClearance;
+    c.obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ(), 4 * R));
+    c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3::Zero(), o.pedestal_radius_m, c.disc_top_z - o.disc_thickness_m));
+    c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, c.disc_top_z - o.disc_thickness_m), rd, o.disc_thickness_m));
+
+    const double gap = o.start_gap_m > 0 ? o.start_gap_m : 2 * o.solver.contact_distance;
+    c.initial = model::flat_grid(c.grid, Vec3(0, 0, c.disc_top_z + gap));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+            if (c.cut.active[c.grid.index(i, j)] && model::rest_uv(c.grid, i, j).norm() <= rd) c.clamped.push_back(c.grid.index(i, j));
+    return c;
+}
+
+CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress)
+{
+    const CusickSetup setup = make_cusick_setup(options);
+    const model::ClothModel model = model::make_cloth_model(fabric, setup.grid, options.model, setup.cut.active);
+    sim::Problem problem;
+    problem.model = &model;
+    problem.obstacles = &setup.obstacles;
+    problem.initial = setup.initial;
+    problem.pinned = setup.clamped;
+
+    CusickResult r;
+    r.drape = sim::drape(problem, options.solver, progress);
+    r.surface = model::cut_surface(setup.grid, setup.cut, r.drape.x, &r.surface_uv);
+    r.spacing_m = setup.grid.sigma;
+    r.specimen_area_m2 = setup.cut.total_area;
+    r.particles = setup.cut.count;
+    r.shadow = analysis::measure_drape(r.surface, Vec2::Zero(), 0.5 * options.disc_diameter_m, 0.5 * options.specimen_diameter_m,
+        setup.cut.total_area, options.shadow);
+    return r;
+}
+
+}  // namespace woven::testers

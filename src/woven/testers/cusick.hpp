@@ -1,0 +1,80 @@
+#pragma once
+// The Cusick drape tester (BS 5058, ISO 9073-9): a circular specimen clamped centred between
+// two horizontal discs on a pedestal, hanging freely around them; its shadow gives the drape
+// coefficient and the nodes (analysis/drape_shadow.hpp).
+//
+//   side view (z up):
+//
+//          clamp disc (the pinned particles)      specimen: a disc cut from the particle grid
+//     ~~~~~~~~~~===========================~~~~~~~~~~   (model/outline.hpp), warp along +y
+//     |        ===========================       |      support disc, radius r_d, 3 mm thick,
+//     |                    ||                    |      top at disc_top_z
+//     |                    || pedestal           |      hanging part: at most R - r_d long
+//     |                    ||                    |
+//   ======================================================  floor (z = 0), R - r_d + 0.1 m below
+//
+// The upper clamping disc is modelled by pinning the particles within the disc's radius at
+// their flat start; the hanging part meets the support disc's rim as an obstacle.
+#include <cstdint>
+
+#include "woven/analysis/drape_shadow.hpp"
+#include "woven/geometry/obstacle.hpp"
+#include "woven/geometry/triangle_mesh.hpp"
+#include "woven/kes/fabric.hpp"
+#include "woven/model/cloth_model.hpp"
+#include "woven/model/outline.hpp"
+#include "woven/sim/drape.hpp"
+
+namespace woven::testers {
+
+/// The default particle spacing of the drape tester (m): the coarsest at which the drape
+/// coefficient has converged to within a percentage point (docs/CUSICK.md).
+inline constexpr double kCusickDefaultSpacing = 0.005;
+
+/// The instrument's settings (SI).
+struct CusickOptions {
+    double specimen_diameter_m = 0.30;  ///< the standard's; 0.24 and 0.36 m are also used
+    double disc_diameter_m = 0.18;      ///< support (and clamp) disc
+    double spacing_m = kCusickDefaultSpacing;
+    double disc_thickness_m = 0.003;
+    double pedestal_radius_m = 0.015;
+    /// Height of the flat start above the support disc's top (m); 0: twice the solver's contact
+    /// distance.
+    double start_gap_m = 0;
+    model::ModelOptions model;
+    sim::SolverOptions solver;  ///< its seed and perturbation make the run-to-run variation
+    analysis::DrapeShadowOptions shadow;
+};
+
+/// The specimen and the instrument, ready to drape.
+struct CusickSetup {
+    model::Grid grid;                  ///< covers the specimen and a ring of particles around it
+    model::Outline outline;            ///< the specimen's disc
+    model::ClothCut cut;               ///< the particles kept, their areas
+    std::vector<int> clamped;          ///< kept particles within the disc's radius (pinned)
+    geometry::ObstacleSet obstacles;   ///< floor, pedestal, support disc
+    Positions initial;                 ///< flat, start_gap_m above the disc, one per grid particle
+    double disc_top_z = 0;             ///< m
+};
+
+/// Builds the instrument. Throws InputError("command line", "--specimen-cm" / "--disc-cm" /
+/// "--spacing-cm", ...) unless 0 < disc < specimen and the spacing resolves the overhang (at
+/// least 2 particles across it and 8 across the specimen).
+CusickSetup make_cusick_setup(const CusickOptions& options);
+
+/// One drape test.
+struct CusickResult {
+    sim::Result drape;
+    geometry::TriangleMesh surface;  ///< the draped specimen (model::cut_surface)
+    std::vector<Vec2> surface_uv;    ///< per surface vertex: rest position in particle spacings (u weft, v warp)
+    analysis::DrapeShadow shadow;    ///< DC and nodes, angles from the warp (+y)
+    double spacing_m = 0;
+    double specimen_area_m2 = 0;     ///< W x this is the specimen's mass
+    int particles = 0;               ///< kept particles
+};
+
+/// Drapes the specimen to rest (sim::drape with the residual test of `woven drape`) and reads
+/// its shadow.
+CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress = {});
+
+}  // namespace woven::testers
