@@ -16,7 +16,7 @@ for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"
   mkdir -p "$work" "$build/fuzz-artifacts"
   echo "fuzz_$t: ${seconds} s" >&2
-  "$build/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=16384 \
+  "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=16384 \
     -dict="${dicts[$t]}" -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
     "$work" "$root/fuzz/corpus/$t" "${seeds[$t]}" 2>&1 | tail -n 25 || status=1
 done

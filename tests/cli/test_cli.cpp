@@ -201,8 +201,8 @@ TEST_F(Cli, FitWritesPlotsAndTables)
         ASSERT_TRUE(fs::exists(dir_ / "fit" / f)) << f;
         EXPECT_GT(fs::file_size(dir_ / "fit" / f), 0u) << f;
     }
-    // Only the outputs: no temporary files left.
-    EXPECT_EQ(count_entries("fit"), 9);
+    // Only the outputs and their manifest: no temporary files left.
+    EXPECT_EQ(count_entries("fit"), 10);
     const std::string png = slurp(dir_ / "fit" / "shear_fit.png");
     EXPECT_EQ(png.substr(1, 3), "PNG");
 
@@ -386,12 +386,13 @@ TEST_F(Cli, DrapeBadInputsWriteNothing)
     EXPECT_FALSE(fs::exists(dir_ / "res"));
 }
 
-TEST_F(Cli, DrapeOutputPathThatIsAFileIsARuntimeFailure)
+TEST_F(Cli, DrapeOutputPathThatIsAFileIsBadUsage)
 {
     write(dir_ / "tiny.toml", kTinyScene);
     write(dir_ / "res", "not a directory");
     const Outcome r = woven("drape tiny.toml --out res --max-steps 2 --no-render");
-    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(r.err, "woven: error: command line: --out: res exists and is not a directory\n");
     EXPECT_TRUE(one_line(r.err)) << r.err;
     EXPECT_EQ(slurp(dir_ / "res"), "not a directory");
 }

@@ -9,12 +9,15 @@
 #include <CLI/CLI.hpp>
 
 #include "woven/analysis/folds.hpp"
+#include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/progress.hpp"
 #include "woven/cli/report.hpp"
+#include "woven/cli/run_checks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/render/drape_view.hpp"
 
@@ -50,14 +53,14 @@ int run_drape(const DrapeOptions& options)
 {
     // 1. Validate everything: options, scene, fabric, model. Nothing is written before this.
     const std::string cl = "command line";
-    if (options.width < 1 || options.width > 16384) throw InputError(cl, "--width", "expected 1 .. 16384 pixels");
-    if (options.height < 1 || options.height > 16384) throw InputError(cl, "--height", "expected 1 .. 16384 pixels");
-    if (options.out.empty()) throw InputError(cl, "--out", "expected a directory");
+    const int width = static_cast<int>(parse_integer(options.width, "--width", 1, 16384));
+    const int height = static_cast<int>(parse_integer(options.height, "--height", 1, 16384));
+    const std::string out_dir = parse_path(options.out, "--out");
 
     std::vector<std::string> warnings;
     io::SceneSpec scene = io::find_scene(options.scene, &warnings);
     io::SceneOverrides ov;
-    ov.grid = options.grid;
+    if (const auto g = parse_integer(options.grid, "--grid", 3, 100000)) ov.grid = static_cast<int>(*g);
     ov.fabric = options.fabric;
     if (options.solver) {
         if (*options.solver == "fast")
@@ -67,15 +70,23 @@ int run_drape(const DrapeOptions& options)
         else
             throw InputError(cl, "--solver", "expected fast or paper");
     }
-    ov.seed = options.seed;
-    ov.max_steps = options.max_steps;
-    ov.threads = options.threads;
+    if (options.seed) ov.seed = parse_seed(*options.seed, "--seed");
+    if (const auto m = parse_integer(options.max_steps, "--max-steps", 0, 1'000'000'000)) ov.max_steps = static_cast<int>(*m);
+    if (const auto t = parse_integer(options.threads, "--threads", 0, io::kMaxThreads)) ov.threads = static_cast<int>(*t);
     io::apply_overrides(scene, ov, cl);
+    // Threads and memory before anything large is built.
+    const ThreadCount threads = choose_threads(scene.solver.threads);
+    scene.solver.threads = threads.used;
+    check_memory(static_cast<long long>(scene.cloth.nu) * scene.cloth.nv, threads.used,
+                 options.grid ? cl : scene.source_path, options.grid ? "--grid" : "cloth.grid");
     const kes::FabricData fabric = io::find_fabric(scene.fabric, &warnings);
     print_warnings(warnings);
 
     const model::Grid grid = scene.cloth.grid();
-    const model::ClothModel model = model::make_cloth_model(fabric, grid, scene.model);
+    std::optional<model::ClothModel> model_storage;  // fitting errors name the fabric's file
+    with_fabric_source(fabric_source(scene.fabric),
+                       [&] { model_storage.emplace(model::make_cloth_model(fabric, grid, scene.model)); });
+    const model::ClothModel& model = *model_storage;
     sim::Problem problem;
     problem.model = &model;
     problem.obstacles = &scene.obstacles;
@@ -84,31 +95,33 @@ int run_drape(const DrapeOptions& options)
     const double energy_initial = model.energy(problem.initial);
 
     // 2. The output directory, before the (long) solve, so that a bad --out fails early.
-    make_output_dir(options.out);
+    make_output_dir(out_dir);
+    check_output_targets(out_dir, {"drape.obj", "drape.ply", "drape.png", "report.json"});
+    io::OutputSet set(out_dir, {"drape.obj", "drape.ply", "drape.png"});
 
     // 3. Drape.
     install_interrupt_handler();
     const int max_steps = scene.solver.max_steps > 0 ? scene.solver.max_steps
                           : scene.solver.kind == sim::SolverKind::FAST ? 400
                                                                         : 200000;
-    Progress progress(max_steps);
+    Progress progress(max_steps, scene.solver.residual_tolerance);
     std::cerr << "woven: draping " << scene.name << " (" << grid.nu << " x " << grid.nv << " particles, fabric "
               << (fabric.name.empty() ? scene.fabric : fabric.name) << ", "
               << (scene.solver.kind == sim::SolverKind::FAST ? "fast" : "paper") << " solver)\n";
     sim::Result result = sim::drape(problem, scene.solver, [&progress](const sim::StepInfo& s) { return progress(s); });
     progress.finish();
-    const bool interrupted = interrupt_requested() || result.interrupted;
+    bool interrupted = interrupt_requested() || result.interrupted;
 
-    // 4. Outputs (each written atomically).
-    std::vector<std::string> written;
-    auto out = [&](const std::string& name) { return join_path(options.out, name); };
-    io::write_file_atomic(out("drape.obj"), io::cloth_obj(result.x, grid.nu, grid.nv));
-    written.push_back("drape.obj");
-    io::write_file_atomic(out("drape.ply"), io::cloth_ply(result.x, grid.nu, grid.nv));
-    written.push_back("drape.ply");
-    if (!options.no_render) {
-        render::write_png(render_drape(result.x, grid, scene, fabric, options.width, options.height), out("drape.png"));
-        written.push_back("drape.png");
+    // 4. Outputs: staged under temporary names, then published as one set with report.json
+    // last (io::OutputSet). Nothing non-finite is written; an interrupt skips the picture.
+    auto out = [&](const std::string& name) { return join_path(out_dir, name); };
+    for (const Vec3& p : result.x)
+        if (!p.allFinite()) throw RuntimeError("the drape ended with non-finite positions; no outputs written");
+    set.add("drape.obj", io::cloth_obj(result.x, grid.nu, grid.nv));
+    set.add("drape.ply", io::cloth_ply(result.x, grid.nu, grid.nv));
+    if (!options.no_render && !interrupt_requested()) {
+        render::write_png(render_drape(result.x, grid, scene, fabric, width, height), set.temp_path("drape.png"));
+        set.added("drape.png");
     }
     DrapeReportInput in;
     in.scene = scene.name;
@@ -120,23 +133,27 @@ int run_drape(const DrapeOptions& options)
     in.solver = &scene.solver;
     in.result = &result;
     in.energy_initial = energy_initial;
+    interrupted = interrupted || interrupt_requested();
     in.interrupted = interrupted;
-    in.outputs = written;
+    in.outputs = set.names();
     std::optional<analysis::FoldAnalysis> folds;  // over a box (the paper's cube): the corner folds
     if (const auto box = analysis::box_footprint(scene.obstacles))
         folds = analysis::analyse_folds(analysis::grid_mesh(result.x, grid.nu, grid.nv), *box);
     in.folds = folds ? &*folds : nullptr;
-    const nlohmann::json report = drape_report(in);
-    io::write_file_atomic(out("report.json"), report.dump(2) + "\n");
-    written.push_back("report.json");
+    nlohmann::json report = drape_report(in);
+    report["threads_requested"] = threads.requested;
+    require_finite(report, "the drape", {"folds"});
+    report["files"] = set.files_json();
+    set.publish("report.json", report.dump(2) + "\n");
 
     std::cout << drape_summary(report) << "wrote";
-    for (const auto& w : written) std::cout << " " << out(w);
+    for (const auto& w : set.names()) std::cout << " " << out(w);
+    std::cout << " " << out("report.json");
     std::cout << "\n";
-    if (interrupted) {
-        std::cerr << "woven: interrupted after " << result.steps << " steps; the outputs hold the state reached "
-                  << "(not converged)\n";
-        return kExitInterrupted;
+    if (interrupted || interrupt_requested()) {
+        std::cerr << "woven: interrupted after " << result.steps << " steps; the outputs hold the state reached"
+                  << (result.converged ? "\n" : " (not converged)\n");
+        return interrupted_exit_code();
     }
     if (!result.converged)
         std::cerr << "woven: warning: not converged after " << result.steps
@@ -148,16 +165,17 @@ void add_drape_command(CLI::App& app, int& exit_code)
 {
     auto o = std::make_shared<DrapeOptions>();
     CLI::App* sub = app.add_subcommand("drape", "Drape a cloth over a scene's obstacles to static equilibrium");
-    sub->footer("Writes drape.obj, drape.ply, drape.png and report.json to --out. Ctrl-C stops after the current "
-                "step, writes the state reached and exits with code 130 (a second Ctrl-C quits at once).");
+    sub->footer("Writes drape.obj, drape.ply, drape.png and report.json (last, naming every file with its SHA-256) "
+                "to --out. Ctrl-C (SIGINT) or SIGTERM stops after the current step, writes the state reached and exits "
+                "with 130 or 143 (a second signal quits at once, leaving the previous outputs as they were).");
     sub->add_option("SCENE", o->scene, "A built-in scene name (see `woven scenes`) or a scene .toml file")
         ->capture_default_str();
     sub->add_option("--fabric", o->fabric, "Fabric: a built-in name or a fabric .toml file (overrides the scene's)");
     sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)");
     sub->add_option("--solver", o->solver, "Solver: fast (implicit steps, projected Newton) or paper (Sec. 3)")
         ->check(CLI::IsMember({"fast", "paper"}));
-    sub->add_option("--seed", o->seed, "Random seed (the paper solver's stochastic phase)")->check(CLI::NonNegativeNumber);
-    sub->add_option("--threads", o->threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+    sub->add_option("--seed", o->seed, "Random seed (the paper solver's stochastic phase)");
+    sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)");
     sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)");
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");

@@ -11,11 +11,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/report.hpp"
+#include "woven/cli/run_checks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_set.hpp"
 #include "woven/kes/fit.hpp"
 #include "woven/model/curvature.hpp"
 #include "woven/model/energy_functions.hpp"
@@ -174,20 +177,34 @@ void trellis_energy_outputs(const model::TrellisEnergy& t, double sigma_cm, std:
 
 }  // namespace
 
+namespace {
+int fit_and_write(const FitOptions& options);
+}  // namespace
+
 int run_fit(const FitOptions& options)
 {
-    if (!(std::isfinite(options.sigma_cm) && options.sigma_cm > 0))
-        throw InputError("command line", "--sigma-cm", "expected a finite number > 0");
+    int code = kExitOk;  // an error of the fitting stage names the fabric's file
+    with_fabric_source(fabric_source(options.fabric), [&] { code = fit_and_write(options); });
+    return code;
+}
+
+namespace {
+
+int fit_and_write(const FitOptions& options)
+{
+    const double sigma_cm = parse_positive(options.sigma_cm, "--sigma-cm", 100);
+    const std::string out_dir = options.out ? parse_path(*options.out, "--out") : std::string();
     std::vector<std::string> warnings;
     const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
     print_warnings(warnings);
     std::string name = fabric.name;
     if (name.empty()) name = std::filesystem::path(options.fabric).stem().string();
-    const std::string dir = options.out.empty() ? join_path("out", "fit-" + name) : options.out;
+    // The default folder is named after the fabric: made safe, it cannot leave out/.
+    const std::string dir = options.out ? out_dir : join_path("out", "fit-" + safe_file_name(name));
 
     // Everything is computed (and so validated) before anything is written.
     const kes::FittedFabric fit = kes::fit_fabric(fabric);
-    const double sigma_m = options.sigma_cm * units::kCmToM;
+    const double sigma_m = sigma_cm * units::kCmToM;
     const model::ModelOptions mo;
     const model::BendingEnergy warp(fit.bending_warp, sigma_m, mo.bending_form, mo.gram_force);
     const model::BendingEnergy weft(fit.bending_weft, sigma_m, mo.bending_form, mo.gram_force);
@@ -203,28 +220,42 @@ int run_fit(const FitOptions& options)
     };
     std::vector<Output> outputs;
     std::string text = "fabric " + name + ": W " + g(kv.W, 4) + " mg/cm2; energies for sigma = " +
-                       g(options.sigma_cm, 4) + " cm\n";
+                       g(sigma_cm, 4) + " cm\n";
     for (const auto& c : curves) {
         outputs.push_back({c.key + "_fit.png", "", fit_plot(c)});
         text += describe_fit(c);
     }
     bending_energy_outputs("bending_warp", "warp", warp, outputs);
     bending_energy_outputs("bending_weft", "weft", weft, outputs);
-    trellis_energy_outputs(trellis, options.sigma_cm, outputs);
+    trellis_energy_outputs(trellis, sigma_cm, outputs);
     text += "trellis: phi_e " + g(trellis.last_measured_angle(), 4) + " rad, continuation T = a / (1.05 - phi) + b "
             "with a " + g(trellis.continuation_a(), 4) + " J.rad, b " + g(trellis.continuation_b(), 4) + " J\n";
 
+    // One set: staged, then published with report.json last (io::OutputSet).
     make_output_dir(dir);
+    std::vector<std::string> names;
+    for (const auto& o : outputs) names.push_back(o.name);
+    names.push_back("report.json");
+    check_output_targets(dir, names);
+    names.pop_back();
+    io::OutputSet set(dir, names);
     for (const auto& o : outputs) {
-        const std::string path = join_path(dir, o.name);
-        if (o.image)
-            render::write_png(*o.image, path);
-        else
-            io::write_file_atomic(path, o.contents);
+        if (o.image) {
+            render::write_png(*o.image, set.temp_path(o.name));
+            set.added(o.name);
+        } else {
+            set.add(o.name, o.contents);
+        }
     }
-    std::cout << text << "wrote " << outputs.size() << " files to " << dir << "\n";
+    nlohmann::json report = {{"version", WOVEN_VERSION}, {"command", "fit"}, {"fabric", name},
+                             {"fabric_source", fabric_source(options.fabric)}, {"sigma_cm", sigma_cm}};
+    report["files"] = set.files_json();
+    set.publish("report.json", report.dump(2) + "\n");
+    std::cout << text << "wrote " << outputs.size() + 1 << " files to " << dir << "\n";
     return kExitOk;
 }
+
+}  // namespace
 
 void add_fit_command(CLI::App& app, int& exit_code)
 {

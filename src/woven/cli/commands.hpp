@@ -17,7 +17,7 @@ namespace woven::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
-inline constexpr int kExitInterrupted = 130;
+inline constexpr int kExitInterrupted = 130;  ///< SIGINT (Ctrl-C); SIGTERM gives 143 (progress.hpp)
 
 struct FabricsOptions {
     bool json = false;
@@ -29,22 +29,25 @@ struct ScenesOptions {
 
 struct FitOptions {
     std::string fabric;
-    std::string out;         ///< empty: out/fit-<name>
-    double sigma_cm = 2.0;
+    std::optional<std::string> out;  ///< absent: out/fit-<name>; given, it must not be empty
+    std::string sigma_cm = "2";      ///< parsed by run_fit (args.hpp)
 };
 
+/// Numbers are kept as text and parsed by run_drape (args.hpp), so that a bad value gets the
+/// documented one-line error.
 struct DrapeOptions {
     std::string scene = "cube";
     std::optional<std::string> fabric;
-    std::optional<int> grid;
+    std::optional<std::string> grid;
     std::optional<std::string> solver;
-    std::optional<std::uint64_t> seed;
-    std::optional<int> threads;
-    std::optional<int> max_steps;
+    std::optional<std::string> seed;
+    std::optional<std::string> threads;
+    std::optional<std::string> max_steps;
+    std::optional<std::string> perturb;
     std::string out = "out";
     bool no_render = false;
-    int width = 1024;
-    int height = 768;
+    std::string width = "1024";
+    std::string height = "768";
 };
 
 /// Adds each subcommand to `app`; the callback stores the exit code in `exit_code`.
@@ -63,9 +66,15 @@ int run_drape(const DrapeOptions& options);
 /// Prints "woven: warning: <w>" on stderr for each warning.
 void print_warnings(const std::vector<std::string>& warnings);
 
-/// Creates `dir` (and its parents) when missing; RuntimeError when it cannot, or when it exists
-/// and is not a directory. Call only after every input has been validated.
+/// Creates `dir` (and its parents) when missing. A `dir` that exists and is not a directory, or
+/// cannot be created, is bad usage: InputError "command line: --out: ...". Call only after
+/// every input has been validated.
 void make_output_dir(const std::string& dir);
+
+/// An output file name made from text in an input file (a fabric's name): every character but
+/// [A-Za-z0-9._-] becomes '_', a leading '.' too, so that it never leaves its folder; empty
+/// becomes "unnamed".
+std::string safe_file_name(const std::string& text);
 
 /// `dir` / `name` as a string.
 std::string join_path(const std::string& dir, const std::string& name);

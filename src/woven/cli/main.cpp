@@ -1,6 +1,8 @@
 // woven: drape of woven cloth from Kawabata (KES) measurements (Breen, House & Wozny 1994).
 // Only this file catches exceptions: one line "woven: error: <what>" on stderr, then
-//   0 ok, 1 runtime failure, 2 bad usage or bad input, 130 interrupted (Ctrl-C; outputs written).
+//   0 ok, 1 runtime failure, 2 bad usage or bad input, 130 / 143 interrupted by SIGINT (Ctrl-C) /
+//   SIGTERM (the state reached is written as a complete set marked interrupted).
+#include <cctype>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -22,9 +24,18 @@ void make_output_dir(const std::string& dir)
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::is_directory(dir, ec)) return;
-    if (fs::exists(dir, ec)) throw RuntimeError("cannot create output directory " + dir + ": exists and is not a directory");
+    if (fs::exists(dir, ec)) throw InputError("command line", "--out", dir + " exists and is not a directory");
     fs::create_directories(dir, ec);
-    if (ec) throw RuntimeError("cannot create output directory " + dir + ": " + ec.message());
+    if (ec) throw InputError("command line", "--out", "cannot create the directory " + dir + ": " + ec.message());
+}
+
+std::string safe_file_name(const std::string& text)
+{
+    std::string s = text.substr(0, 100);
+    for (char& c : s)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) c = '_';
+    if (!s.empty() && s[0] == '.') s[0] = '_';
+    return s.empty() ? std::string("unnamed") : s;
 }
 
 std::string join_path(const std::string& dir, const std::string& name)
@@ -38,7 +49,8 @@ int main(int argc, char** argv)
 {
     using namespace woven::cli;
     CLI::App app{"woven: drape of woven cloth from Kawabata (KES) measurements, after Breen, House & Wozny, "
-                 "SIGGRAPH '94.\nExit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 130 interrupted (Ctrl-C).",
+                 "SIGGRAPH '94.\nExit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 130 interrupted (Ctrl-C), "
+                 "143 terminated (SIGTERM).",
                  "woven"};
     app.set_version_flag("--version", std::string("woven ") + WOVEN_VERSION, "Print the version and exit");
     app.require_subcommand(1, 1);

@@ -1,6 +1,8 @@
 #include "woven/cli/progress.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <string>
@@ -11,18 +13,19 @@ namespace woven::cli {
 
 namespace {
 
-std::atomic<bool> g_interrupted{false};
-static_assert(std::atomic<bool>::is_always_lock_free);
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
 
-extern "C" void on_sigint(int)
+extern "C" void on_signal(int sig)
 {
-    if (g_interrupted.exchange(true)) {
+    int none = 0;
+    if (!g_signal.compare_exchange_strong(none, sig)) {
         static const char msg[] = "\nwoven: interrupted again, exiting without writing outputs\n";
         [[maybe_unused]] auto n = ::write(STDERR_FILENO, msg, sizeof msg - 1);
-        ::_exit(130);
+        ::_exit(128 + sig);
     }
     static const char msg[] = "\nwoven: interrupt: stopping after this step and writing the state reached "
-                              "(Ctrl-C again to quit at once)\n";
+                              "(interrupt again to quit at once)\n";
     [[maybe_unused]] auto n = ::write(STDERR_FILENO, msg, sizeof msg - 1);
 }
 
@@ -31,18 +34,34 @@ extern "C" void on_sigint(int)
 void install_interrupt_handler()
 {
     struct sigaction sa {};
-    sa.sa_handler = on_sigint;
+    sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESTART;
     sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
 }
 
-bool interrupt_requested() { return g_interrupted.load(); }
+bool interrupt_requested() { return g_signal.load() != 0; }
 
-Progress::Progress(int max_steps)
-    : tty_(::isatty(STDERR_FILENO) == 1), max_steps_(max_steps), start_(std::chrono::steady_clock::now()),
-      last_(start_)
+int interrupted_exit_code()
 {
+    const int s = g_signal.load();
+    return 128 + (s != 0 ? s : SIGINT);
+}
+
+Progress::Progress(int max_steps, double residual_tolerance)
+    : tty_(::isatty(STDERR_FILENO) == 1), max_steps_(max_steps), tolerance_(residual_tolerance),
+      start_(std::chrono::steady_clock::now()), last_(start_)
+{
+}
+
+double Progress::fraction(double residual)
+{
+    if (!(residual > 0) || !std::isfinite(residual)) return residual == 0 ? 1.0 : 0.0;
+    if (first_residual_ <= 0) first_residual_ = residual;
+    if (!(first_residual_ > tolerance_)) return 1.0;
+    const double f = std::log(first_residual_ / residual) / std::log(first_residual_ / tolerance_);
+    return std::clamp(f, 0.0, 1.0);
 }
 
 bool Progress::operator()(const sim::StepInfo& info)
@@ -50,20 +69,20 @@ bool Progress::operator()(const sim::StepInfo& info)
     const auto now = std::chrono::steady_clock::now();
     const double since_last = std::chrono::duration<double>(now - last_).count();
     const double wall = std::chrono::duration<double>(now - start_).count();
-    const bool draw = tty_ ? since_last >= 0.1 || info.step <= 1 : since_last >= 0.5;
+    const double frac = fraction(info.max_residual_rel);
+    const bool draw = !any_ || since_last >= (tty_ ? 0.1 : 0.5);
     if (draw) {
+        any_ = true;
         last_ = now;
         char line[256];
-        std::string bar;
-        if (tty_ && max_steps_ > 0) {
-            const int width = 20;
-            const int filled = std::min(width, info.step * width / max_steps_);
-            bar = "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] ";
-        }
-        std::snprintf(line, sizeof line, "step %d%s  t %.3f s  E %.6g J  residual %.3g m g  move %.3g m  wall %.1f s",
+        std::snprintf(line, sizeof line,
+                      "step %d%s  t %.3f s  E %.6g J  residual %.3g m g (tolerance %.3g)  move %.3g m  wall %.1f s",
                       info.step, max_steps_ > 0 ? ("/" + std::to_string(max_steps_)).c_str() : "", info.time,
-                      info.energy, info.max_residual_rel, info.max_move, wall);
+                      info.energy, info.max_residual_rel, tolerance_, info.max_move, wall);
         if (tty_) {
+            const int width = 20;
+            const int filled = static_cast<int>(std::lround(frac * width));
+            const std::string bar = "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] ";
             std::fprintf(stderr, "\r%s%s\033[K", bar.c_str(), line);
             drawn_ = true;
         } else {

@@ -6,12 +6,16 @@
 #include <cstring>
 #include <cmath>
 #include <cstdarg>
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include <unistd.h>
+
 #include "woven/common/error.hpp"
+#include "woven/io/output_set.hpp"
 
 namespace woven::io {
 
@@ -56,7 +60,13 @@ std::vector<std::array<int, 3>> grid_triangles(int nu, int nv)
 
 void write_file_atomic(const std::string& path, std::string_view contents)
 {
-    const std::string tmp = path + ".tmp";
+    // A unique temporary name in the same folder (io::OutputSet's pattern, so that one left by a
+    // killed process is removed by the next run writing there).
+    static int counter = 0;
+    const std::filesystem::path p(path);
+    const std::string tmp = (p.parent_path() / (std::string(kTempPrefix) + std::to_string(::getpid()) + ".a" +
+                                                std::to_string(counter++) + "." + p.filename().string()))
+                                .string();
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         if (!out) throw RuntimeError(strf("%s: cannot write: %s", path.c_str(), std::strerror(errno)));

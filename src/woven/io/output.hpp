@@ -13,8 +13,8 @@
 
 namespace woven::io {
 
-/// Writes `contents` to `path` atomically: the data goes to "<path>.tmp", which is then renamed
-/// over `path` (no fsync). On any failure the temporary file is removed and RuntimeError is
+/// Writes `contents` to `path` atomically: the data goes to a unique temporary name in the same
+/// folder (".woven-tmp.<pid>.a<n>.<name>"), which is then renamed over `path` (no fsync). On any failure the temporary file is removed and RuntimeError is
 /// thrown; `path` is never left holding a partial file.
 void write_file_atomic(const std::string& path, std::string_view contents);
 

@@ -1,0 +1,23 @@
+#pragma once
+// Command-line values parsed by woven itself (not CLI11's converters), so that a bad value is
+// one short line in the documented form "command line: <option>: <what is expected>", exit 2.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace woven::cli {
+
+/// An integer in [lo, hi] ("command line: --threads: expected an integer in [0, 4096], got '-1'").
+long long parse_integer(const std::string& text, const std::string& option, long long lo, long long hi);
+/// An unsigned 64-bit integer (a seed: 0 .. 18446744073709551615, nothing clamped).
+std::uint64_t parse_seed(const std::string& text, const std::string& option);
+/// A finite number in (lo, hi] (lo excluded).
+double parse_positive(const std::string& text, const std::string& option, double hi);
+/// A non-empty path ("command line: --out: expected a directory path, got an empty string").
+std::string parse_path(const std::string& text, const std::string& option);
+
+/// std::optional versions: nullopt stays nullopt.
+std::optional<long long> parse_integer(const std::optional<std::string>& text, const std::string& option, long long lo,
+                                       long long hi);
+
+}  // namespace woven::cli

@@ -1,0 +1,44 @@
+#pragma once
+// Checks a run makes before and after its work (issue 13): threads it can use, memory it will
+// need, an output directory it can write, an error of the fitting stage naming the fabric's
+// file, and no non-finite number in a report.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace woven::cli {
+
+/// Threads asked for (0: all) and used: min(asked, available_cores()); a request above the
+/// cores available prints a warning (more threads than cores only slows a run down).
+struct ThreadCount {
+    int requested = 0;
+    int used = 1;
+};
+ThreadCount choose_threads(int requested);
+
+/// Refuses (InputError "<source>: <field>: ... needs about X GB ..., more than the Y GB of
+/// <limit>") a drape whose estimated memory exceeds the process's limit.
+void check_memory(long long particles, int threads, const std::string& source, const std::string& field);
+
+/// Each `dir`/name that exists must be a regular file (bad usage otherwise: InputError
+/// "command line: --out: <path> exists and is not a regular file").
+void check_output_targets(const std::string& dir, const std::vector<std::string>& names);
+
+/// Runs `fit` (which fits a fabric's curves); an InputError that names the fabric rather than a
+/// file ("fabric 'probe': ...") is rethrown naming `fabric_source` (its file, or "built-in
+/// fabric 'x'").
+void with_fabric_source(const std::string& fabric_source, const std::function<void()>& fit);
+
+/// The name a fabric's errors carry: the path for a fabric file, "built-in fabric 'x'" else.
+std::string fabric_source(const std::string& name_or_path);
+
+/// Throws RuntimeError naming the first field of the object `report` that is null or not a
+/// finite number (JSON cannot hold inf/NaN: they are written as null), so that no report with a
+/// non-finite number is ever written, let alone one claiming convergence. Top-level keys in
+/// `optional` may be null (an analysis that does not apply) and are not checked.
+void require_finite(const nlohmann::json& report, const std::string& what,
+                    const std::vector<std::string>& optional = {});
+
+}  // namespace woven::cli
