@@ -26,7 +26,6 @@ namespace {
 
 const std::string kSource = "test.toml";
 
-/// A valid scene with a cloth and one box; `extra` is appended.
 /// 1-based line of the first occurrence of `needle` in `text`.
 int line_of(const std::string& text, const std::string& needle)
 {
@@ -34,6 +33,7 @@ int line_of(const std::string& text, const std::string& needle)
     return at == std::string::npos ? -1 : 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
 }
 
+/// A valid scene with a cloth and one box; `extra` is appended.
 std::string cube_scene(const std::string& cloth_extra = "", const std::string& extra = "")
 {
     return "name = \"t\"\n[cloth]\nsize_m = [1.0, 1.0]\ngrid = [11, 11]\nheight_m = 0.51\n" + cloth_extra +

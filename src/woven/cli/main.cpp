@@ -3,6 +3,7 @@
 //   0 ok, 1 runtime failure, 2 bad usage or bad input, 130 / 143 interrupted by SIGINT (Ctrl-C) /
 //   SIGTERM (the state reached is written as a complete set marked interrupted).
 #include <cctype>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -14,9 +15,25 @@
 
 namespace woven::cli {
 
+/// One line: control characters (a newline from an input file) shown as \xNN.
+std::string one_line(const std::string& s)
+{
+    std::string out;
+    for (const char c : s) {
+        if (static_cast<unsigned char>(c) < 0x20) {
+            char b[8];
+            std::snprintf(b, sizeof b, "\\x%02x", static_cast<unsigned char>(c));
+            out += b;
+        } else {
+            out += c;
+        }
+    }
+    return out;
+}
+
 void print_warnings(const std::vector<std::string>& warnings)
 {
-    for (const auto& w : warnings) std::cerr << "woven: warning: " << w << "\n";
+    for (const auto& w : warnings) std::cerr << "woven: warning: " << one_line(w) << "\n";
 }
 
 void make_output_dir(const std::string& dir)
@@ -60,8 +77,10 @@ int main(int argc, char** argv)
     add_fabrics_command(app, exit_code);
     add_scenes_command(app, exit_code);
     add_fit_command(app, exit_code);
+    add_kes_test_command(app, exit_code);
     add_drape_command(app, exit_code);
     add_render_command(app, exit_code);
+    add_experiment_command(app, exit_code);
 
     try {
         // CLI11 reports a mistyped command as "A subcommand is required"; name it instead.
@@ -87,10 +106,10 @@ int main(int argc, char** argv)
         std::cerr << "woven: error: " << e.what() << " (see woven --help)\n";
         return kExitUsage;
     } catch (const woven::InputError& e) {
-        std::cerr << "woven: error: " << e.what() << "\n";
+        std::cerr << "woven: error: " << one_line(e.what()) << "\n";
         return kExitUsage;
     } catch (const std::exception& e) {
-        std::cerr << "woven: error: " << e.what() << "\n";
+        std::cerr << "woven: error: " << one_line(e.what()) << "\n";
         return kExitFailure;
     } catch (...) {
         std::cerr << "woven: error: unknown failure\n";

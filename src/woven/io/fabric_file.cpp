@@ -125,6 +125,7 @@ kes::FabricData parse_fabric(std::string_view toml_text, const std::string& sour
     kes::FabricData f;
     f.name = r.string("name", std::nullopt);
     if (f.name.empty()) r.fail("name", "expected a non-empty string");
+    if (printable(f.name) != f.name) r.fail("name", "expected a name of at most 80 characters without control characters");
     f.description = r.string("description", "");
     f.source = r.string("source", std::nullopt);
     if (f.source.empty()) r.fail("source", "expected where the numbers come from (a citation)");
@@ -194,7 +195,7 @@ kes::FabricData find_fabric(const std::string& name_or_path, std::vector<std::st
         if (file.path == wanted) return parse_fabric(file.data, "built-in fabric '" + name_or_path + "'", warnings);
     std::string list;
     for (const auto& n : builtin_fabric_names()) list += (list.empty() ? "" : ", ") + n;
-    throw InputError("", "fabric", "unknown fabric '" + name_or_path + "'; expected a built-in fabric (" + list +
+    throw InputError("", "fabric", "unknown fabric '" + printable(name_or_path) + "'; expected a built-in fabric (" + list +
                                        ") or a fabric file path ending in .toml");
 }
 

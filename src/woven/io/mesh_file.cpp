@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "woven/common/error.hpp"
+#include "woven/io/toml_reader.hpp"
 
 namespace woven::io {
 
@@ -28,7 +29,7 @@ std::vector<std::string_view> tokens(std::string_view line)
     return t;
 }
 
-std::string shown(std::string_view s) { return "'" + std::string(s.substr(0, 40)) + (s.size() > 40 ? "...'" : "'"); }
+std::string shown(std::string_view s) { return "'" + printable(s, 40) + "'"; }
 
 }  // namespace
 

@@ -1,6 +1,7 @@
 #include "woven/io/output.hpp"
 
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -62,7 +63,7 @@ void write_file_atomic(const std::string& path, std::string_view contents)
 {
     // A unique temporary name in the same folder (io::OutputSet's pattern, so that one left by a
     // killed process is removed by the next run writing there).
-    static int counter = 0;
+    static std::atomic<long> counter{0};
     const std::filesystem::path p(path);
     const std::string tmp = (p.parent_path() / (std::string(kTempPrefix) + std::to_string(::getpid()) + ".a" +
                                                 std::to_string(counter++) + "." + p.filename().string()))

@@ -1,5 +1,6 @@
 #include "woven/io/output_set.hpp"
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -21,6 +22,9 @@ namespace woven::io {
 namespace fs = std::filesystem;
 
 namespace {
+
+/// Numbers the temporaries of this process (all its sets, all threads).
+std::atomic<long> g_temp_counter{0};
 
 std::string path_in(const std::string& dir, const std::string& name) { return (fs::path(dir) / name).string(); }
 
@@ -104,7 +108,7 @@ OutputSet::~OutputSet()
 std::string OutputSet::temp_path(const std::string& name)
 {
     const std::string t = path_in(dir_, std::string(kTempPrefix) + std::to_string(::getpid()) + "." +
-                                            std::to_string(counter_++) + "." + name);
+                                            std::to_string(g_temp_counter++) + "." + name);
     temps_.push_back(t);
     return t;
 }

@@ -62,7 +62,6 @@ private:
     std::vector<std::string> members_;
     std::vector<File> files_;
     std::vector<std::string> temps_;  ///< temporaries that exist and are not yet renamed
-    int counter_ = 0;
     bool published_ = false;
 };
 

@@ -137,7 +137,7 @@ ObstaclePtr build_mesh(const TomlTable& t, const ObstacleContext& ctx)
         else if (asset)
             mesh = parse_obj_mesh(asset->second, asset->first);
         else
-            t.fail("file", "no such mesh file: " + path.string());
+            t.fail("file", "no such mesh file: " + printable(path.string(), 200));
     } catch (const InputError& e) {
         if (e.field() == t.field("file")) throw;
         t.fail("file", e.what());  // "<scene>: obstacle[k].file: <mesh>:<line>: f: ..."
@@ -172,7 +172,7 @@ std::unique_ptr<geometry::Obstacle> build_obstacle(const TomlTable& t, const Obs
     const auto type = std::find_if(std::begin(kObstacleTypes), std::end(kObstacleTypes),
                                    [&](const ObstacleType& o) { return o.name == kind; });
     if (type == std::end(kObstacleTypes))
-        t.fail("type", "unknown obstacle type \"" + kind + "\" (expected plane, box, sphere, cylinder, disc or mesh)");
+        t.fail("type", "unknown obstacle type \"" + printable(kind) + "\" (expected plane, box, sphere, cylinder, disc or mesh)");
     return type->build(t, context);
 }
 

@@ -1,6 +1,7 @@
 #include "woven/io/toml_reader.hpp"
 
-#include <charconv>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 
 #include "woven/common/error.hpp"
@@ -37,11 +38,34 @@ std::string join(const std::string& prefix, std::string_view key)
 
 }  // namespace
 
+std::string printable(std::string_view text, std::size_t max_length)
+{
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (out.size() >= max_length) return out + "...";
+        const auto c = static_cast<unsigned char>(text[i]);
+        if (c < 0x20 || c == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\x%02x", c);
+            out += buf;
+        } else {
+            out += static_cast<char>(c);
+        }
+    }
+    return out;
+}
+
 std::string num_str(double v)
 {
+    // The shortest %g form that reads back as v ("0.0001", "9.2e+18", "1e+300").
     char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
+    const double a = std::abs(v);
+    const int first = a >= 1 && a < 1e15 ? static_cast<int>(std::floor(std::log10(a))) + 1 : 1;
+    for (int precision = first; precision <= 17; ++precision) {
+        std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+        if (std::strtod(buf, nullptr) == v || !std::isfinite(v)) break;
+    }
+    return buf;
 }
 
 std::string Range::kind() const
@@ -153,7 +177,7 @@ toml::table parse_toml(std::string_view text, const std::string& source)
     } catch (const toml::parse_error& e) {
         const auto& b = e.source().begin;
         throw InputError(source + ":" + std::to_string(b.line) + ":" + std::to_string(b.column) +
-                         ": TOML syntax: " + std::string(e.description()));
+                         ": TOML syntax: " + printable(e.description(), 200));
     }
 }
 
@@ -250,7 +274,7 @@ std::string TomlTable::choice(std::string_view key, std::optional<std::string> d
     const std::string v = string(key, def);
     for (auto c : choices)
         if (c == v) return v;
-    fail(key, "expected one of " + list + ", got \"" + v + "\"" + (n ? TomlReader::at(*n) : std::string()));
+    fail(key, "expected one of " + list + ", got \"" + printable(v) + "\"" + (n ? TomlReader::at(*n) : std::string()));
 }
 
 std::vector<double> TomlTable::fixed_numbers(std::string_view key, int count, const Range& range,
