@@ -22,22 +22,27 @@ double& EnergyTerms::operator[](Term t)
     return gravity;
 }
 
-std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& active, double areal_density_kg_m2)
+std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& active, double areal_density_kg_m2,
+    const std::vector<double>& area_m2)
 {
+    assert(area_m2.empty() || static_cast<int>(area_m2.size()) == grid.size());
     const double patch = areal_density_kg_m2 * grid.sigma * grid.sigma;  // each particle is a sigma x sigma patch
     std::vector<double> m(grid.size(), patch);
-    for (int p = 0; p < grid.size(); ++p)
+    for (int p = 0; p < grid.size(); ++p) {
+        if (!area_m2.empty()) m[p] = areal_density_kg_m2 * area_m2[p];
         if (!active.empty() && !active[p]) m[p] = 0;
+    }
     return m;
 }
 
-ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active)
+ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active,
+    const std::vector<double>& area_m2)
     : grid_(grid), stencils_(make_stencils(grid, std::move(active)))
 {
     assert(grid.nu > 0 && grid.nv > 0 && grid.sigma > 0);
     const double sigma = grid.sigma;
     const double W = fabric.areal_density_mg_cm2 * units::kMgPerCm2ToKgPerM2;
-    masses_ = particle_masses(grid, stencils_.active, W);
+    masses_ = particle_masses(grid, stencils_.active, W, area_m2);
     patch_mass_ = W * sigma * sigma;
     gravity_ = options.gravity;
     const double hang = 0.5 * std::max(grid.nu - 1, grid.nv - 1) * sigma;
@@ -119,9 +124,10 @@ std::vector<Stencil<2>> ClothModel::close_pairs(const Positions& x, double radiu
     return pairs;
 }
 
-ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active)
+ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active,
+    const std::vector<double>& area_m2)
 {
-    return ClothModel(kes::fit_fabric(fabric), grid, options, std::move(active));
+    return ClothModel(kes::fit_fabric(fabric), grid, options, std::move(active), area_m2);
 }
 
 Positions flat_grid(const Grid& grid, const Vec3& centre, double yaw)

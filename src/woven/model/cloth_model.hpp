@@ -40,23 +40,33 @@ struct ModelOptions {
     double C0 = 0;
 };
 
-/// Particle masses (kg): W sigma^2 for every active particle (each stands for a sigma x sigma
-/// patch, MODEL-NOTES), 0 for an inactive one. W in kg/m^2.
-std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& active, double areal_density_kg_m2);
+/// Particle masses (kg): W times the area each active particle stands for, 0 for an inactive
+/// one. W in kg/m^2. `area_m2` (one per grid particle, e.g. model::ClothCut::area for a cloth
+/// of any outline) gives the areas; empty, each stands for a sigma x sigma patch (MODEL-NOTES).
+std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& active, double areal_density_kg_m2,
+    const std::vector<double>& area_m2 = {});
 
 /// The cloth's energy of Eq. (1) with derivatives, for one fitted fabric on one grid. Sigma is
 /// the grid's, held once: every energy function is built from it here.
 class ClothModel {
 public:
-    /// `active`: one entry per grid particle (empty: all active), see stencils.hpp.
-    ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {});
+    /// `active`: one entry per grid particle (empty: all active), see stencils.hpp; `area_m2`:
+    /// the area each particle stands for (empty: sigma^2), see particle_masses.
+    ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {},
+        const std::vector<double>& area_m2 = {});
 
     /// Energy terms at x, one position per grid particle; a term is +inf in a singular
     /// configuration (terms.hpp).
     EnergyTerms evaluate(const Positions& x) const;
     /// The same, sending each stencil's local derivatives (as `what` asks) to `sink`
     /// (terms.hpp, LocalSink): not for vanishing or infinite terms.
-    template <LocalSink Sink> EnergyTerms evaluate(const Positions& x, Derivatives what, Sink& sink) const;
+    template <LocalSink Sink> EnergyTerms evaluate(const Positions& x, Derivatives what, Sink& sink) const
+    {
+        return evaluate(x, what, sink, close_pairs(x));
+    }
+    /// The same with the repulsion pairs given: they must be close_pairs(x) (a PairCache's).
+    template <LocalSink Sink>
+    EnergyTerms evaluate(const Positions& x, Derivatives what, Sink& sink, const std::vector<Stencil<2>>& pairs) const;
 
     /// Total energy (J).
     double energy(const Positions& x) const { return evaluate(x).total(); }
@@ -99,7 +109,8 @@ private:
 };
 
 /// Fits the fabric's curves (kes::fit_fabric, Sec. 5.1) and builds its model (Sec. 5.2-5.4).
-ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {});
+ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {},
+    const std::vector<double>& area_m2 = {});
 
 // ---------------------------------------------------------------------------------------------
 
@@ -125,7 +136,8 @@ struct NoSink {
 
 }  // namespace detail
 
-template <LocalSink Sink> EnergyTerms ClothModel::evaluate(const Positions& x, Derivatives what, Sink& sink) const
+template <LocalSink Sink>
+EnergyTerms ClothModel::evaluate(const Positions& x, Derivatives what, Sink& sink, const std::vector<Stencil<2>>& pairs) const
 {
     assert(static_cast<int>(x.size()) == grid_.size());
     EnergyTerms e;
@@ -136,7 +148,7 @@ template <LocalSink Sink> EnergyTerms ClothModel::evaluate(const Positions& x, D
         if (what != Derivatives::NONE) sink.template add<1>(Term::GRAVITY, {p}, l, false);  // linear: no Hessian
     }
     e.stretch = detail::add_term(Term::STRETCH, stretch_term(), stencils_.edges, x, what, sink);
-    e.repulsion = detail::add_term(Term::REPULSION, repulsion_term(), close_pairs(x), x, what, sink);
+    e.repulsion = detail::add_term(Term::REPULSION, repulsion_term(), pairs, x, what, sink);
     e.bending_warp = detail::add_term(Term::BENDING_WARP, BendingTerm(warp_), stencils_.warp_bends, x, what, sink);
     e.bending_weft = detail::add_term(Term::BENDING_WEFT, BendingTerm(weft_), stencils_.weft_bends, x, what, sink);
     e.trellis = detail::add_term(Term::TRELLIS, trellis_term(), stencils_.crossings, x, what, sink);
