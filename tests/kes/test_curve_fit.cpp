@@ -87,6 +87,10 @@ TEST_P(BendingFit, ReproducesTheSynthesisedCurve)
     EXPECT_NEAR(data_B, s.B, 0.02 * s.B);
     EXPECT_NEAR(f.line().c1, s.B, 0.02 * s.B);
     EXPECT_NEAR(f.line().c1, data_B, 0.02 * data_B);
+    // The synthesised curve is straight over the window, so its KES slope is B, and the fit's
+    // own KES slope is too (to the fit's slope tolerance, 1e-4).
+    EXPECT_NEAR(data_B, s.B, 1e-12 * s.B);
+    EXPECT_NEAR(fit_slope(f, inst::kBendingSlopeFrom, inst::kBendingSlopeTo), s.B, 1e-4 * s.B);
     // Non-decreasing moment over the measured range.
     for (int k = 0; k <= 250; ++k) EXPECT_GE(f.slope(inst::kBendingMaxCurvature * k / 250.0), 0.0);
 }
@@ -108,17 +112,23 @@ TEST_P(ShearFit, ReproducesTheSynthesisedCurve)
     // The outer line reproduces the data's slope between 0.5 and 5 degrees within 2 %.
     const double data_G = data_slope(c, inst::kShearSlopeFrom, inst::kShearSlopeTo);
     EXPECT_NEAR(f.line().c1, data_G, 0.02 * data_G);
+    // KES slope of the synthesised curve and of its fit: G (not G + (2HG5 - 2HG)/9).
+    EXPECT_NEAR(data_G, s.G, 1e-12 * s.G);
+    EXPECT_NEAR(fit_slope(f, inst::kShearSlopeFrom, inst::kShearSlopeTo), s.G, 1e-4 * s.G);
+    for (int k = 0; k <= 160; ++k) EXPECT_GE(f.slope(inst::kShearMaxAngle * k / 160.0), 0.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Summaries, ShearFit,
                          testing::Values(ShearSummary{1.5, 2.0, 3.0}, ShearSummary{0.5, 0.6, 1.2}, ShearSummary{4.0, 6.0, 9.0}, ShearSummary{1.0, 0.0, 0.0},
                                          ShearSummary{0.8, 3.0, 1.0}));
 
-TEST(Fit, SigmoidInitialResistanceNeedsTwoQuadratics)
+TEST(Fit, SigmoidInitialResistanceNeedsMoreSegments)
 {
     // A measured-looking curve: zero slope at the origin, a steep rise, then the straight outer
-    // part: M = B K + h K^2 / (K^2 + K0^2), B = 0.05, h = 0.06, K0 = 0.15 1/cm. One quadratic
-    // from the origin cannot follow it within 2 % of max y, so two are used.
+    // part: M = B K + h K^2 / (K^2 + K0^2), B = 0.05, h = 0.06, K0 = 0.15 1/cm. It still bends
+    // inside the KES window 0.5..1.5, where the paper's line (fitted over 0.5..2.5) misses its
+    // slope: more quadratic segments, C0/C1 at every junction, with the fit's KES slope the
+    // data's.
     Curve c;
     for (int k = 0; k <= 50; ++k) {
         const double K = 2.5 * k / 50.0;
@@ -126,17 +136,43 @@ TEST(Fit, SigmoidInitialResistanceNeedsTwoQuadratics)
         c.y.push_back(0.05 * K + 0.06 * K * K / (K * K + 0.15 * 0.15));
     }
     const CurveFit f = fit_first_stage(c, bending_fit_options(), "sigmoid");
-    ASSERT_EQ(f.segments().size(), 3u) << "expected two quadratics and the line";
+    ASSERT_GE(f.segments().size(), 3u) << "expected at least two quadratics and the line";
     check_structure(f);
     check_derived(f, 2.5);
-    // Stated accuracy for this curve: within 3 % of max y.
+    // Through the data: within 3 % of max y everywhere, 0.5 % of the value from K = 0.5 on.
     EXPECT_LE(max_fit_error(f, c), 0.03 * y_max(c));
-    // The line follows the outer part it was fitted to (x >= 0.5): its slope is the data's slope
-    // over 0.5..2.5 within 2 % (the sigmoid still bends inside the KES window 0.5..1.5).
-    EXPECT_NEAR(f.line().c1, data_slope(c, 0.5, 2.5), 0.02 * data_slope(c, 0.5, 2.5));
-    // Both quadratics are non-decreasing.
+    for (size_t k = 0; k < c.x.size(); ++k)
+        if (c.x[k] >= 0.5) EXPECT_NEAR(f.value(c.x[k]), c.y[k], 0.005 * c.y[k]) << "K = " << c.x[k];
+    const double B = data_slope(c, 0.5, 1.5);
+    EXPECT_NEAR(fit_slope(f, 0.5, 1.5), B, 1e-9 * B);
     for (int k = 0; k <= 250; ++k) EXPECT_GE(f.slope(2.5 * k / 250.0), 0.0);
 }
+
+class NonlinearFit : public testing::TestWithParam<double> {};
+
+TEST_P(NonlinearFit, KesSlopeOfAMeasuredStyleCurve)
+{
+    // M = B K + a (1 - exp(-K / K0)) with a slowly saturating rise (K0 = GetParam()): today's
+    // single line misses the KES slope by 2-4 %; the fit matches it.
+    const double K0 = GetParam();
+    Curve c;
+    for (int k = 0; k <= 25; ++k) {
+        const double K = 0.1 * k;
+        c.x.push_back(K);
+        c.y.push_back(0.1 * K + 0.03 * (1 - std::exp(-K / K0)));
+    }
+    const CurveFit f = fit_first_stage(c, bending_fit_options(), "nonlinear");
+    check_structure(f);
+    check_derived(f, 2.5);
+    const double B = data_slope(c, 0.5, 1.5);
+    EXPECT_NEAR(fit_slope(f, 0.5, 1.5), B, 1e-9 * B);
+    for (size_t k = 0; k < c.x.size(); ++k)
+        if (c.x[k] >= 0.5) EXPECT_NEAR(f.value(c.x[k]), c.y[k], 0.005 * c.y[k]) << "K = " << c.x[k];
+    EXPECT_LE(max_fit_error(f, c), 0.02 * y_max(c));
+    for (int k = 0; k <= 250; ++k) EXPECT_GE(f.slope(2.5 * k / 250.0), 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(RiseConstants, NonlinearFit, testing::Values(0.2, 0.3, 0.5, 0.8));
 
 TEST(Fit, ExactlyLinearDataGivesTheLine)
 {

@@ -80,30 +80,35 @@ TEST(ValidateCurve, RejectsMismatchedNegativeAndOutOfRange)
 
 TEST(Synthesis, BendingCurveFollowsTheDocumentedRule)
 {
-    // M(K) = B K + (2HB/2)(1 - exp(-K/0.1)), K = 0..2.5 1/cm, 51 points.
+    // M(K) = B K + (2HB/2) r(K/0.3), r(u) = 1 - (1 - u)^2 below 1, then 1; K = 0..2.5 1/cm, 51 points.
     const BendingSummary s{0.08, 0.05};
     const Curve c = synthesize_bending_curve(s);
     ASSERT_EQ(c.x.size(), 51u);
     EXPECT_EQ(c.x.front(), 0.0);
     EXPECT_EQ(c.y.front(), 0.0);
     EXPECT_NEAR(c.x.back(), inst::kBendingMaxCurvature, 1e-15);
-    EXPECT_NEAR(c.y[20], 0.08 * 1.0 + 0.025 * (1 - std::exp(-10.0)), 1e-15);  // K = 1.0
+    EXPECT_NEAR(c.y[20], 0.08 * 1.0 + 0.025, 1e-15);  // K = 1.0
+    EXPECT_NEAR(c.y[2], 0.08 * 0.1 + 0.025 * (1 - (1 - 0.1 / 0.3) * (1 - 0.1 / 0.3)), 1e-15);  // K = 0.1, in the rise
     EXPECT_NO_THROW(validate_curve(c, "synth", "bending.warp", 5.0));
     // The hysteresis offset at K = 1: the loading branch lies 2HB/2 above the mean line B K.
-    EXPECT_NEAR(c.y[20] - 0.08 * 1.0, 0.5 * s.two_HB, 1e-4 * s.two_HB);  // exp(-10) = 4.5e-5
-    EXPECT_NEAR(data_slope(c, inst::kBendingSlopeFrom, inst::kBendingSlopeTo), s.B, 0.02 * s.B);
+    EXPECT_NEAR(c.y[20] - 0.08 * 1.0, 0.5 * s.two_HB, 1e-15);
+    // Straight over the KES window: its KES slope is B itself.
+    EXPECT_NEAR(data_slope(c, inst::kBendingSlopeFrom, inst::kBendingSlopeTo), s.B, 1e-12 * s.B);
 }
 
 TEST(Synthesis, ShearCurveFollowsTheDocumentedRule)
 {
-    // F(phi) = G phi + h(phi)(1 - exp(-phi/0.1)), h linear through 2HG/2 at 0.5 and 2HG5/2 at 5 deg.
+    // F(phi) = G phi + h r(phi/0.3), h = (2HG + 2HG5)/4 = 1.025 gf/cm, r as for bending.
     const ShearSummary s{1.2, 1.6, 2.5};
     const Curve c = synthesize_shear_curve(s);
     ASSERT_EQ(c.x.size(), 33u);
     EXPECT_EQ(c.y.front(), 0.0);
     EXPECT_NEAR(c.x.back(), inst::kShearMaxAngle, 1e-15);
-    EXPECT_NEAR(c.y[2], 1.2 * 0.5 + 0.8 * (1 - std::exp(-5.0)), 1e-14);    // phi = 0.5 deg, h = 2HG/2
-    EXPECT_NEAR(c.y[20], 1.2 * 5.0 + 1.25 * (1 - std::exp(-50.0)), 1e-14);  // phi = 5 deg, h = 2HG5/2
+    EXPECT_NEAR(c.y[2], 1.2 * 0.5 + 1.025, 1e-14);   // phi = 0.5 deg
+    EXPECT_NEAR(c.y[20], 1.2 * 5.0 + 1.025, 1e-14);  // phi = 5 deg
+    EXPECT_NEAR(c.y[1], 1.2 * 0.25 + 1.025 * (1 - (1 - 0.25 / 0.3) * (1 - 0.25 / 0.3)), 1e-14);  // in the rise
+    // Straight over the KES window: its KES slope is G itself (not G + (2HG5 - 2HG)/9).
+    EXPECT_NEAR(data_slope(c, inst::kShearSlopeFrom, inst::kShearSlopeTo), s.G, 1e-12 * s.G);
     EXPECT_NO_THROW(validate_curve(c, "synth", "shear", 30.0));
 }
 
@@ -111,6 +116,10 @@ TEST(Synthesis, FitOptionsUseTheKesWindows)
 {
     EXPECT_EQ(bending_fit_options().line_from, inst::kBendingSlopeFrom);
     EXPECT_EQ(shear_fit_options().line_from, inst::kShearSlopeFrom);
+    EXPECT_EQ(bending_fit_options().slope_from, inst::kBendingSlopeFrom);
+    EXPECT_EQ(bending_fit_options().slope_to, inst::kBendingSlopeTo);
+    EXPECT_EQ(shear_fit_options().slope_from, inst::kShearSlopeFrom);
+    EXPECT_EQ(shear_fit_options().slope_to, inst::kShearSlopeTo);
 }
 
 }  // namespace

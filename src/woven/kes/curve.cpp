@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Dense>
+
 #include "woven/common/error.hpp"
 
 namespace woven::kes {
@@ -148,6 +150,60 @@ std::vector<Segment> double_quadratic(const LineFit& L, double xm, double xj, co
     return build(den > 0 ? num / den : 0.0);
 }
 
+/// The many-segment fit: q quadratics on equal spans of [0, xj] and the line beyond, C1, through
+/// the origin. Unknowns theta = (slope at 0, half the second derivative on each span); the
+/// fitted values are linear in theta. Least squares on all points, subject to the KES slope
+/// over [lo, hi] equalling `target` (Lagrange multiplier).
+std::vector<Segment> constrained_spline(const Curve& c, int q, double xj, double lo, double hi, double target)
+{
+    const int m = q + 1;
+    const double h = xj / q;
+    auto build = [&](const Eigen::VectorXd& theta) {
+        std::vector<Segment> segs;
+        double y = 0, slope = theta[0];
+        for (int k = 0; k < q; ++k) {
+            const double t = k * h, ck = theta[1 + k];
+            // local y + slope (x - t) + ck (x - t)^2 in global coefficients
+            segs.push_back({t, k + 1 == q ? xj : (k + 1) * h, y - slope * t + ck * t * t, slope - 2 * ck * t, ck});
+            y += slope * h + ck * h * h;
+            slope += 2 * ck * h;
+        }
+        segs.front().c0 = 0;  // through the origin, exactly
+        segs.push_back({xj, std::numeric_limits<double>::infinity(), y - slope * xj, slope, 0});
+        return segs;
+    };
+    const int n = static_cast<int>(c.x.size());
+    Eigen::MatrixXd A(n, m);
+    Eigen::RowVectorXd C(m);
+    for (int j = 0; j < m; ++j) {
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(m);
+        e[j] = 1;
+        const CurveFit f(build(e), c.x.back());
+        for (int i = 0; i < n; ++i) A(i, j) = f.value(c.x[i]);
+        C[j] = (f.value(hi) - f.value(lo)) / (hi - lo);
+    }
+    Eigen::VectorXd y(n);
+    for (int i = 0; i < n; ++i) y[i] = c.y[i];
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m + 1, m + 1);
+    Eigen::VectorXd rhs(m + 1);
+    K.topLeftCorner(m, m) = 2 * A.transpose() * A;
+    K.topRightCorner(m, 1) = C.transpose();
+    K.bottomLeftCorner(1, m) = C;
+    rhs.head(m) = 2 * A.transpose() * y;
+    rhs[m] = target;
+    const Eigen::VectorXd sol = K.fullPivLu().solve(rhs);
+    return build(sol.head(m));
+}
+
+double max_relative_error(const std::vector<Segment>& segs, const Curve& c, double from)
+{
+    const CurveFit f(segs, c.x.back());
+    double e = 0;
+    for (size_t k = 0; k < c.x.size(); ++k)
+        if (c.x[k] >= from && c.y[k] > 0) e = std::max(e, std::abs(f.value(c.x[k]) - c.y[k]) / c.y[k]);
+    return e;
+}
+
 }  // namespace
 
 CurveFit fit_first_stage(const Curve& curve, const FitOptions& options, const std::string& what)
@@ -172,8 +228,32 @@ CurveFit fit_first_stage(const Curve& curve, const FitOptions& options, const st
         if (sse < best_sse) best_sse = sse, best = segs;
     }
     const double y_max = *std::max_element(curve.y.begin(), curve.y.end());
-    if (!best.empty() && max_error(best, curve) <= options.single_segment_tolerance * y_max)
-        return CurveFit(best, x_max);
+    const double target = data_slope(curve, options.slope_from, options.slope_to);
+    const bool window_in_data = options.slope_to <= x_max && options.slope_from < options.slope_to;
+    auto slope_ok = [&](const std::vector<Segment>& segs) {
+        if (!window_in_data) return true;
+        const double s = fit_slope(CurveFit(segs, x_max), options.slope_from, options.slope_to);
+        return std::abs(s - target) <= options.slope_tolerance * std::abs(target);
+    };
+    // Additional segments (Sec. 5.1) when the paper's fit misses the KES slope.
+    auto more_segments = [&](std::vector<Segment> fallback) {
+        std::vector<Segment> chosen;
+        double chosen_error = std::numeric_limits<double>::infinity();
+        for (int q = 1; q <= options.max_segments; ++q) {
+            auto segs = constrained_spline(curve, q, options.slope_to, options.slope_from, options.slope_to, target);
+            bool monotone = true;
+            for (const Segment& sg : segs) monotone = monotone && sg.slope(sg.x_begin) >= 0 && (std::isinf(sg.x_end) ? sg.c2 == 0 : sg.slope(sg.x_end) >= 0);
+            if (!monotone) continue;
+            const double err = max_relative_error(segs, curve, options.slope_from);
+            if (err < chosen_error) chosen_error = err, chosen = segs;
+            if (err <= options.relative_tolerance) break;
+        }
+        return chosen.empty() ? fallback : chosen;
+    };
+    if (!best.empty() && max_error(best, curve) <= options.single_segment_tolerance * y_max) {
+        if (slope_ok(best)) return CurveFit(best, x_max);
+        return CurveFit(more_segments(best), x_max);
+    }
 
     // Two quadratic segments (Sec. 5.1: "additional segments", C0/C1 at each boundary).
     const int kCoarse = 60;
@@ -187,10 +267,13 @@ CurveFit fit_first_stage(const Curve& curve, const FitOptions& options, const st
             if (sse < best_sse) best_sse = sse, best = segs;
         }
     }
+    if (window_in_data && (best.empty() || !slope_ok(best))) best = more_segments(best);
     if (best.empty())
         throw InputError(what, "", "no non-decreasing piecewise quadratic/linear fit exists; is the curve a first-stage loading curve?");
     return CurveFit(best, x_max);
 }
+
+double fit_slope(const CurveFit& fit, double lo, double hi) { return (fit.value(hi) - fit.value(lo)) / (hi - lo); }
 
 double data_slope(const Curve& c, double x_lo, double x_hi)
 {

@@ -29,6 +29,17 @@ struct FitOptions {
     /// Accept a single quadratic from the origin when its largest error to the data is below
     /// this fraction of the largest ordinate; otherwise use two quadratic segments.
     double single_segment_tolerance = 0.02;
+    /// The KES slope window (B: 0.5-1.5 1/cm, G: 0.5-5 degrees). The fit's own slope over it,
+    /// (y(slope_to) - y(slope_from)) / (slope_to - slope_from), must equal the data's
+    /// (data_slope) within slope_tolerance (relative); when the line-and-quadratics fit above
+    /// misses it (a curve still bending inside the window), more segments are used.
+    double slope_from = 0.5, slope_to = 1.5;
+    double slope_tolerance = 1e-4;
+    /// The many-segment fit: quadratic segments on equal spans of [0, slope_to], then the line;
+    /// as few as give every data point at or beyond slope_from within relative_tolerance of
+    /// its value, at most max_segments.
+    double relative_tolerance = 0.005;
+    int max_segments = 8;
 };
 
 /// The fitted first-stage curve: quadratic segment(s) from the origin (through it, no slope
@@ -64,9 +75,18 @@ private:
     double data_max_x_ = 0;
 };
 
-/// Fits a first-stage curve as the paper's Sec. 5.1 says. `what` names the curve in errors.
+/// Fits a first-stage curve as the paper's Sec. 5.1 says: the outer line by least squares,
+/// then one or two quadratics from the origin meeting it in value and slope. When that fit's
+/// KES slope misses the data's (options.slope_tolerance), "additional segments" (Sec. 5.1) by
+/// the same rule: k quadratics on equal spans of [0, slope_to], C0 and C1 at every junction,
+/// through the origin, then the line on [slope_to, inf), all fitted together by least squares
+/// subject to the fit's KES slope equalling the data's exactly; k the fewest that meet
+/// options.relative_tolerance (and stay non-decreasing). `what` names the curve in errors.
 /// Throws InputError when the curve cannot be fitted (too few points in the outer part).
 CurveFit fit_first_stage(const Curve& curve, const FitOptions& options, const std::string& what);
+
+/// The fit's own KES slope over [lo, hi]: (value(hi) - value(lo)) / (hi - lo).
+double fit_slope(const CurveFit& fit, double lo, double hi);
 
 /// Least-squares slope of the data between x_lo and x_hi (KES: B between 0.5 and 1.5 1/cm,
 /// G between 0.5 and 5 degrees), interpolating the curve at the ends.

@@ -1,5 +1,6 @@
 #include "woven/kes/fabric.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -9,28 +10,29 @@ namespace woven::kes {
 
 Curve synthesize_bending_curve(const BendingSummary& s)
 {
-    constexpr double kRise = 0.1;  // 1/cm: initial-resistance region
+    constexpr double kRise = 0.3;  // 1/cm: the initial-resistance region ends here
     constexpr int kPoints = 51;
     Curve c;
     for (int k = 0; k < kPoints; ++k) {
         const double K = instrument::kBendingMaxCurvature * k / (kPoints - 1);
+        const double u = std::min(K / kRise, 1.0);
         c.x.push_back(K);
-        c.y.push_back(s.B * K + 0.5 * s.two_HB * (1.0 - std::exp(-K / kRise)));
+        c.y.push_back(s.B * K + 0.5 * s.two_HB * (1.0 - (1.0 - u) * (1.0 - u)));
     }
     return c;
 }
 
 Curve synthesize_shear_curve(const ShearSummary& s)
 {
-    constexpr double kRise = 0.1;  // degrees
+    constexpr double kRise = 0.3;  // degrees
     constexpr int kPoints = 33;
-    const double h05 = 0.5 * s.two_HG, h5 = 0.5 * s.two_HG5;
+    const double half_width = 0.25 * (s.two_HG + s.two_HG5);  // mean of 2HG/2 and 2HG5/2
     Curve c;
     for (int k = 0; k < kPoints; ++k) {
         const double phi = instrument::kShearMaxAngle * k / (kPoints - 1);
-        const double half_width = std::max(0.0, h05 + (h5 - h05) * (phi - 0.5) / 4.5);
+        const double u = std::min(phi / kRise, 1.0);
         c.x.push_back(phi);
-        c.y.push_back(s.G * phi + half_width * (1.0 - std::exp(-phi / kRise)));
+        c.y.push_back(s.G * phi + half_width * (1.0 - (1.0 - u) * (1.0 - u)));
     }
     return c;
 }
@@ -39,6 +41,8 @@ FitOptions bending_fit_options()
 {
     FitOptions o;
     o.line_from = instrument::kBendingSlopeFrom;
+    o.slope_from = instrument::kBendingSlopeFrom;
+    o.slope_to = instrument::kBendingSlopeTo;
     return o;
 }
 
@@ -46,6 +50,8 @@ FitOptions shear_fit_options()
 {
     FitOptions o;
     o.line_from = instrument::kShearSlopeFrom;
+    o.slope_from = instrument::kShearSlopeFrom;
+    o.slope_to = instrument::kShearSlopeTo;
     return o;
 }
 

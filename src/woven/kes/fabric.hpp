@@ -65,13 +65,16 @@ inline constexpr double kShearSampleWidth = 5.0;    ///< cm (the paper's l in Eq
 }  // namespace instrument
 
 /// Synthesises a first-stage KES-FB2 loading curve from B and 2HB (documented rule,
-/// docs/FABRIC-FORMAT.md): M(K) = B K + (2HB/2) (1 - exp(-K/K0)), K0 = 0.1 1/cm, K = 0..2.5 1/cm.
-/// The loading branch lies half a hysteresis width above the mean line of slope B.
+/// docs/FABRIC-FORMAT.md): M(K) = B K + (2HB/2) r(K/K1), r(u) = 1 - (1 - u)^2 for u < 1 and 1
+/// beyond, K1 = 0.3 1/cm, K = 0..2.5 1/cm. The loading branch lies half a hysteresis width
+/// above the mean line of slope B, reached (C1) by the end of the initial-resistance region,
+/// so its KES slope over 0.5-1.5 1/cm is B exactly.
 Curve synthesize_bending_curve(const BendingSummary& s);
 
 /// Synthesises a first-stage KES-FB1 loading curve from G, 2HG, 2HG5 (documented rule):
-/// F(phi) = G phi + h(phi) (1 - exp(-phi/phi0)), phi0 = 0.1 deg, phi = 0..8 deg, where the half
-/// hysteresis width h is linear through 2HG/2 at 0.5 deg and 2HG5/2 at 5 deg (clamped at >= 0).
+/// F(phi) = G phi + h r(phi/phi1), r as above, phi1 = 0.3 deg, phi = 0..8 deg, with the half
+/// hysteresis width h = (2HG + 2HG5)/4 (the mean of the two measured half widths): the
+/// loading branch's KES slope over 0.5-5 degrees is G exactly.
 Curve synthesize_shear_curve(const ShearSummary& s);
 
 /// Checks a fabric for plausibility and consistency; throws InputError naming `source` and the
