@@ -81,6 +81,7 @@ int main(int argc, char** argv)
     add_drape_command(app, exit_code);
     add_render_command(app, exit_code);
     add_experiment_command(app, exit_code);
+    add_experiment_command(app, exit_code);
 
     try {
         // CLI11 reports a mistyped command as "A subcommand is required"; name it instead.

@@ -12,8 +12,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kSideElevationDeg = 12;    // front and side views
 constexpr double kCornerElevationDeg = 20;  // the corner view
-const Vec3 kObstacleColor(0.60, 0.60, 0.60);
-const Vec3 kFloorColor(0.80, 0.79, 0.77);
+const Vec3 kObstacleColor(0.42, 0.42, 0.42);
+const Vec3 kFloorColor(0.78, 0.77, 0.75);
 
 /// Catmull-Rom weights at t in [0, 1] for the points p[-1], p[0], p[1], p[2].
 std::array<double, 4> catmull_rom(double t)
@@ -163,7 +163,7 @@ Image render_drape(const DrapeScene& scene, const Camera& camera, RenderOptions 
     Vec3 back(-f.x(), -f.y(), 0);
     if (back.norm() < 1e-6) back = -Vec3(camera.up.x(), camera.up.y(), 0);  // looking straight down
     back = back.norm() > 1e-9 ? Vec3(back.normalized()) : Vec3(-Vec3::UnitY());
-    options.light_dir = (-0.55 * r + 0.45 * back + 1.0 * Vec3::UnitZ()).normalized();
+    options.light_dir = (-0.75 * r + 0.35 * back + 0.95 * Vec3::UnitZ()).normalized();
     return render(meshes, camera, options);
 }
 

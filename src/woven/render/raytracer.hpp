@@ -68,8 +68,8 @@ struct RenderOptions {
     bool shadows = true;                                     ///< shadows from the key light
     double light_radius_deg = 4;                             ///< angular radius of the key light (0: hard shadows)
     Vec3 light_dir = Vec3(-0.45, -0.75, 1).normalized();     ///< direction towards the key light
-    double light = 0.95;                                     ///< key light irradiance (linear, 0..)
-    double sky = 0.45;                                       ///< sky (ambient) light (linear, 0..)
+    double light = 1.05;                                     ///< key light irradiance (linear, 0..)
+    double sky = 0.32;                                       ///< sky (ambient) light (linear, 0..)
     bool ambient_occlusion = true;                           ///< occlude the sky term
     double ao_distance_m = 0;                                ///< AO ray length (m); 0: 0.2 x the radius of the non-floor meshes
     /// A cloth surface behind an obstacle surface by less than this along a ray (m) is drawn in

@@ -1,0 +1,509 @@
+// woven experiment cube|map|figure1: the paper's experiments (Sec. 6, Fig. 1, Fig. 8), drawn and
+// measured. Writes pictures, tables (Markdown) and the raw numbers (JSON) into --out.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "woven/analysis/folds.hpp"
+#include "woven/cli/commands.hpp"
+#include "woven/cli/report.hpp"
+#include "woven/common/error.hpp"
+#include "woven/io/fabric_file.hpp"
+#include "woven/io/output.hpp"
+#include "woven/io/scene_file.hpp"
+#include "woven/render/drape_view.hpp"
+#include "woven/render/figure.hpp"
+
+namespace woven::cli {
+
+namespace {
+
+/// A corner's structure, read from the section 0.10 m below the top (the first depth).
+enum class Structure { NONE, SINGLE_DIAGONAL, SINGLE_OFFSET, MULTIPLE };
+/// A single billow within this angle of the corner's diagonal leaves it "at 45 degrees" (deg).
+constexpr double kDiagonalToleranceDeg = 15;
+
+const char* structure_name(Structure s)
+{
+    switch (s) {
+    case Structure::NONE: return "none";
+    case Structure::SINGLE_DIAGONAL: return "single, on the diagonal";
+    case Structure::SINGLE_OFFSET: return "single, off the diagonal";
+    case Structure::MULTIPLE: return "two or more folds";
+    }
+    return "";
+}
+
+Structure classify(const std::vector<analysis::Billow>& billows)
+{
+    if (billows.empty()) return Structure::NONE;
+    if (billows.size() > 1) return Structure::MULTIPLE;
+    return std::abs(billows[0].angle_deg) <= kDiagonalToleranceDeg ? Structure::SINGLE_DIAGONAL : Structure::SINGLE_OFFSET;
+}
+
+struct ExperimentOptions {
+    std::string which;
+    std::string out = "docs/experiments";
+    int seeds = 5;
+    std::optional<int> grid;
+    int threads = 1;
+    std::string map_grid = "5x3";
+    std::vector<std::string> fabrics = {"cotton", "wool", "polyester_cotton"};
+};
+
+/// One drape and what it measured.
+struct Outcome {
+    std::string fabric;
+    std::uint64_t seed = 0;
+    Positions x;
+    model::Grid grid;
+    bool converged = false;
+    int steps = 0;
+    double wall_s = 0;
+    double energy_J = 0;
+    std::optional<analysis::FoldAnalysis> folds;
+};
+
+/// Drapes `fabric` over `scene` (a copy is changed: seed, grid, threads) like `woven drape`.
+Outcome drape(const kes::FabricData& fabric, const std::string& fabric_name, std::uint64_t seed,
+              const ExperimentOptions& o, io::SceneSpec& scene)
+{
+    io::SceneOverrides ov;
+    ov.grid = o.grid;
+    ov.seed = seed;
+    ov.threads = o.threads;
+    io::apply_overrides(scene, ov, "command line");
+    Outcome out;
+    out.fabric = fabric_name;
+    out.seed = seed;
+    out.grid = scene.cloth.grid();
+    const model::ClothModel model = model::make_cloth_model(fabric, out.grid, scene.model);
+    sim::Problem problem;
+    problem.model = &model;
+    problem.obstacles = &scene.obstacles;
+    problem.initial = scene.cloth.initial_positions();
+    problem.pinned = scene.pinned_indices();
+    std::cerr << "woven: experiment: " << scene.name << ", " << fabric_name << ", seed " << seed << " ..." << std::flush;
+    const sim::Result r = sim::drape(problem, scene.solver);
+    std::fprintf(stderr, " %s, %d steps, %.1f s\n", r.converged ? "converged" : "NOT converged", r.steps, r.wall_time);
+    out.x = r.x;
+    out.converged = r.converged;
+    out.steps = r.steps;
+    out.wall_s = r.wall_time;
+    out.energy_J = r.energy.total();
+    if (const auto box = analysis::box_footprint(scene.obstacles))
+        out.folds = analysis::analyse_folds(analysis::grid_mesh(r.x, out.grid.nu, out.grid.nv), *box);
+    return out;
+}
+
+render::DrapeScene drape_scene(const Outcome& d, const io::SceneSpec& scene, const kes::FabricData& fabric)
+{
+    render::DrapeScene ds;
+    ds.cloth = render::grid_surface(d.x, d.grid.nu, d.grid.nv);
+    ds.cloth_color = render::fabric_color(fabric.color);
+    ds.obstacles = &scene.obstacles;
+    if (scene.camera.given) {
+        render::Camera c;
+        c.eye = scene.camera.eye;
+        c.target = scene.camera.target;
+        c.fov_deg = scene.camera.fov_deg;
+        ds.scene_camera = c;
+    }
+    return ds;
+}
+
+render::Image picture(const render::DrapeScene& ds, render::View view, int w, int h)
+{
+    render::RenderOptions ro;
+    ro.width = w;
+    ro.height = h;
+    return render::render_drape(ds, render::view_camera(ds, view, double(w) / h), ro);
+}
+
+std::string fmt(const char* f, double v)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+/// "1 (+49)" / "2 (-21, +19)" / "0" for one corner at one depth.
+std::string corner_cell(const std::vector<analysis::Billow>& b)
+{
+    std::string s = std::to_string(b.size());
+    if (b.empty()) return s;
+    s += " (";
+    for (std::size_t k = 0; k < b.size(); ++k) s += (k ? ", " : "") + fmt("%+.0f", b[k].angle_deg);
+    return s + ")";
+}
+
+std::string provenance(const std::string& command)
+{
+    return std::string("Made by `") + command + "` (woven " + WOVEN_VERSION + ").";
+}
+
+nlohmann::json outcome_json(const Outcome& d)
+{
+    nlohmann::json j{{"fabric", d.fabric}, {"seed", d.seed},   {"converged", d.converged},
+                     {"steps", d.steps},   {"wall_s", d.wall_s}, {"energy_J", d.energy_J}};
+    j["folds"] = d.folds ? folds_json(*d.folds) : nlohmann::json(nullptr);
+    return j;
+}
+
+// ---------------------------------------------------------------------------------------------
+// woven experiment cube
+
+int run_cube(const ExperimentOptions& o, const std::string& command)
+{
+    std::vector<std::string> warnings;
+    (void)io::find_scene("cube", &warnings);  // warnings once
+    std::vector<kes::FabricData> fabrics;
+    for (const auto& f : o.fabrics) fabrics.push_back(io::find_fabric(f, &warnings));
+    print_warnings(warnings);
+    make_output_dir(o.out);
+
+    std::vector<std::vector<Outcome>> runs(fabrics.size());
+    std::vector<io::SceneSpec> scenes;
+    for (std::size_t f = 0; f < fabrics.size(); ++f)
+        for (int s = 1; s <= o.seeds; ++s) {
+            io::SceneSpec scene = io::find_scene("cube");
+            runs[f].push_back(drape(fabrics[f], o.fabrics[f], static_cast<std::uint64_t>(s), o, scene));
+            if (s == 1) scenes.push_back(std::move(scene));
+        }
+
+    // The figure: one column per fabric (seed 1), rows corner, side, top.
+    const int pw = 480, ph = 360, label_h = 40, margin_l = 90;
+    const std::vector<std::pair<render::View, std::string>> rows = {
+        {render::View::CORNER, "corner"}, {render::View::SIDE, "side"}, {render::View::TOP, "top"}};
+    render::Image fig = render::blank(margin_l + pw * static_cast<int>(fabrics.size()), label_h + ph * 3 + 30);
+    for (std::size_t f = 0; f < fabrics.size(); ++f) {
+        const render::DrapeScene ds = drape_scene(runs[f][0], scenes[f], fabrics[f]);
+        const int x0 = margin_l + pw * static_cast<int>(f);
+        render::draw_label(fig, o.fabrics[f], x0 + (pw - render::label_width(o.fabrics[f], 3)) / 2, 10, 3);
+        for (std::size_t r = 0; r < rows.size(); ++r) {
+            render::paste(fig, picture(ds, rows[r].first, pw, ph), x0, label_h + ph * static_cast<int>(r));
+            if (f == 0) render::draw_label(fig, rows[r].second, 10, label_h + ph * static_cast<int>(r) + ph / 2 - 7, 3);
+        }
+    }
+    const std::string note = "seed 1 of each; " + std::string("woven ") + WOVEN_VERSION;
+    render::draw_label(fig, note, margin_l, label_h + ph * 3 + 8, 2, Vec3(0.3, 0.3, 0.3));
+    render::write_png(fig, join_path(o.out, "cube_figure.png"));
+
+    // The fold table and the per-seed statistics.
+    const auto& depths = analysis::FoldOptions{}.depths_m;
+    std::ostringstream md;
+    md << "# The cube experiment: corner folds\n\n" << provenance(command) << "\n\n";
+    md << "The paper's Sec. 6: 1 m x 1 m cloth, " << runs[0][0].grid.nu << " x " << runs[0][0].grid.nv
+       << " particles, over a 0.5 m cube; seeds 1.." << o.seeds
+       << ". Each cell: billows leaving the corner on the section " << fmt("%.2f", depths[0]) << " m below the top face, then on the one "
+       << fmt("%.2f", depths[1]) << " m below, with each billow's direction from the corner's diagonal (degrees, counter-clockwise seen from above). "
+       << "Corners: 0 (+x +y), 1 (-x +y), 2 (-x -y), 3 (+x -y); warp threads run along y, weft along x.\n\n";
+    md << "| fabric | seed | converged | corner 0 | corner 1 | corner 2 | corner 3 |\n|---|---|---|---|---|---|---|\n";
+    nlohmann::json all = nlohmann::json::array();
+    for (std::size_t f = 0; f < fabrics.size(); ++f)
+        for (const Outcome& d : runs[f]) {
+            all.push_back(outcome_json(d));
+            md << "| " << d.fabric << " | " << d.seed << " | " << (d.converged ? "yes" : "no") << " |";
+            for (int c = 0; c < 4; ++c) {
+                md << " ";
+                if (d.folds)
+                    for (std::size_t h = 0; h < d.folds->sections.size(); ++h)
+                        md << (h ? " / " : "") << corner_cell(d.folds->sections[h].at_corner(c));
+                md << " |";
+            }
+            md << "\n";
+        }
+    md << "\n## How often each corner structure appears\n\nOver all seeds and the four corners, on the section "
+       << fmt("%.2f", depths[0]) << " m below the top (a single billow counts as on the diagonal within "
+       << fmt("%.0f", kDiagonalToleranceDeg) << " degrees of it):\n\n";
+    md << "| fabric | corners | single, on the diagonal | single, off the diagonal | two or more folds | none | mean angle of single billows (deg) | mean |angle| (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
+    nlohmann::json stats = nlohmann::json::object();
+    for (std::size_t f = 0; f < fabrics.size(); ++f) {
+        std::map<Structure, int> count;
+        double sum = 0, sum_abs = 0;
+        int singles = 0, corners = 0;
+        std::vector<double> energies;
+        for (const Outcome& d : runs[f]) {
+            energies.push_back(d.energy_J);
+            if (!d.folds) continue;
+            for (int c = 0; c < 4; ++c) {
+                const auto b = d.folds->sections[0].at_corner(c);
+                ++count[classify(b)];
+                ++corners;
+                if (b.size() == 1) {
+                    sum += b[0].angle_deg;
+                    sum_abs += std::abs(b[0].angle_deg);
+                    ++singles;
+                }
+            }
+        }
+        std::sort(energies.begin(), energies.end());
+        int distinct = energies.empty() ? 0 : 1;
+        for (std::size_t k = 1; k < energies.size(); ++k)
+            if (energies[k] - energies[k - 1] > 1e-9 * std::abs(energies[k])) ++distinct;
+        auto pct = [&](Structure s) { return corners ? fmt("%.0f %%", 100.0 * count[s] / corners) : std::string("-"); };
+        md << "| " << o.fabrics[f] << " | " << corners << " | " << pct(Structure::SINGLE_DIAGONAL) << " | "
+           << pct(Structure::SINGLE_OFFSET) << " | " << pct(Structure::MULTIPLE) << " | " << pct(Structure::NONE) << " | "
+           << (singles ? fmt("%+.1f", sum / singles) : "-") << " | " << (singles ? fmt("%.1f", sum_abs / singles) : "-")
+           << " | " << distinct << " of " << energies.size() << " |\n";
+        stats[o.fabrics[f]] = {{"corners", corners},
+                               {"single_diagonal", count[Structure::SINGLE_DIAGONAL]},
+                               {"single_offset", count[Structure::SINGLE_OFFSET]},
+                               {"multiple", count[Structure::MULTIPLE]},
+                               {"none", count[Structure::NONE]},
+                               {"distinct_drapes", distinct}};
+    }
+    md << "\n\"distinct drapes\": seeds whose final energies differ (by more than 1e-9 relative); with a "
+          "symmetric start and no perturbation every seed gives the same drape.\n\n![cube figure](cube_figure.png)\n";
+    io::write_file_atomic(join_path(o.out, "cube_folds.md"), md.str());
+    nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"runs", all}, {"statistics", stats},
+                     {"diagonal_tolerance_deg", kDiagonalToleranceDeg}};
+    io::write_file_atomic(join_path(o.out, "cube_results.json"), j.dump(1) + "\n");
+    std::cout << "wrote " << join_path(o.out, "cube_figure.png") << ", cube_folds.md, cube_results.json\n";
+    return kExitOk;
+}
+
+// ---------------------------------------------------------------------------------------------
+// woven experiment map
+
+/// A synthetic fabric: the cotton's W and shear, bending from the Peirce bending length
+/// c = (B / W)^(1/3) of the geometric-mean rigidity B = sqrt(B_warp B_weft) and the ratio
+/// B_warp / B_weft; 2HB half of B (gf.cm/cm per gf.cm^2/cm, cotton's order).
+std::string synthetic_fabric(double ratio, double length_cm, double W_mg_cm2, double G)
+{
+    const double W_gf_cm2 = W_mg_cm2 * 1e-3;
+    const double B = length_cm * length_cm * length_cm * W_gf_cm2;
+    const double bw = B * std::sqrt(ratio), bf = B / std::sqrt(ratio);
+    std::ostringstream t;
+    t.precision(6);
+    t << "name = \"map\"\nsource = \"synthetic: woven experiment map\"\n";
+    t << "areal_density_mg_cm2 = " << W_mg_cm2 << "\n";
+    t << "[bending.warp]\nB = " << bw << "\n2HB = " << 0.5 * bw << "\n";
+    t << "[bending.weft]\nB = " << bf << "\n2HB = " << 0.5 * bf << "\n";
+    t << "[shear]\nG = " << G << "\n2HG = " << 1.5 * G << "\n2HG5 = " << 2.25 * G << "\n";
+    return t.str();
+}
+
+/// (bending length cm, warp/weft ratio) of a fabric, from its KES values.
+std::pair<double, double> map_position(const kes::FabricData& f)
+{
+    const KesValues v = kes_values(f);
+    const double B = std::sqrt(v.B_warp * v.B_weft);
+    return {std::cbrt(B / (v.W * 1e-3)), v.B_warp / v.B_weft};
+}
+
+int run_map(const ExperimentOptions& o, const std::string& command)
+{
+    int nr = 0, nc = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(o.map_grid.c_str(), "%d%c%d%c", &nr, &x, &nc, &extra) != 3 || x != 'x' || nr < 2 || nc < 2 || nr > 9 ||
+        nc > 9)
+        throw InputError("command line", "--map-grid", "expected RxL: R ratios by L bending lengths, each 2 .. 9");
+    std::vector<std::string> warnings;
+    const kes::FabricData cotton = io::find_fabric("cotton", &warnings);
+    std::vector<kes::FabricData> paper;
+    for (const auto& f : o.fabrics) paper.push_back(io::find_fabric(f, &warnings));
+    print_warnings(warnings);
+    const KesValues cv = kes_values(cotton);
+    make_output_dir(o.out);
+
+    // Ratios 1/4 .. 4 evenly in log2; bending lengths 1 .. 5 cm evenly.
+    std::vector<double> ratios, lengths;
+    for (int i = 0; i < nr; ++i) ratios.push_back(std::pow(2.0, -2.0 + 4.0 * i / (nr - 1)));
+    for (int i = 0; i < nc; ++i) lengths.push_back(1.0 + 4.0 * i / (nc - 1));
+    struct Cell {
+        double ratio, length;
+        bool converged = false;
+        double mean_billows = 0, mean_abs_angle = 0;
+        Structure majority = Structure::NONE;
+        std::vector<std::vector<analysis::Billow>> corners;
+    };
+    std::vector<Cell> cells;
+    nlohmann::json jcells = nlohmann::json::array();
+    for (double r : ratios)
+        for (double c : lengths) {
+            std::vector<std::string> w;
+            const kes::FabricData fab = io::parse_fabric(synthetic_fabric(r, c, cv.W, cv.G), "synthetic fabric", &w);
+            io::SceneSpec scene = io::find_scene("cube");
+            const Outcome d = drape(fab, "ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm", 1, o, scene);
+            Cell cell;
+            cell.ratio = r;
+            cell.length = c;
+            cell.converged = d.converged;
+            std::map<Structure, int> count;
+            int singles = 0;
+            if (d.folds)
+                for (int k = 0; k < 4; ++k) {
+                    const auto b = d.folds->sections[0].at_corner(k);
+                    cell.corners.push_back(b);
+                    cell.mean_billows += b.size() / 4.0;
+                    ++count[classify(b)];
+                    if (b.size() == 1) {
+                        cell.mean_abs_angle += std::abs(b[0].angle_deg);
+                        ++singles;
+                    }
+                }
+            if (singles) cell.mean_abs_angle /= singles;
+            int best = -1;
+            for (const auto& [s, n] : count)
+                if (n > best) {
+                    best = n;
+                    cell.majority = s;
+                }
+            nlohmann::json jc = outcome_json(d);
+            jc["ratio_warp_weft"] = r;
+            jc["bending_length_cm"] = c;
+            jc["structure"] = structure_name(cell.majority);
+            jcells.push_back(jc);
+            cells.push_back(cell);
+        }
+
+    // The picture: a cell per fabric, coloured by the majority structure; the paper's fabrics marked.
+    const int cw = 190, ch = 110, left = 120, top = 60, bottom = 150;
+    render::Image img = render::blank(left + cw * nc + 30, top + ch * nr + bottom);
+    const std::map<Structure, Vec3> colour = {{Structure::SINGLE_DIAGONAL, Vec3(0.55, 0.80, 0.55)},
+                                              {Structure::SINGLE_OFFSET, Vec3(0.96, 0.72, 0.45)},
+                                              {Structure::MULTIPLE, Vec3(0.55, 0.68, 0.90)},
+                                              {Structure::NONE, Vec3(0.85, 0.85, 0.85)}};
+    render::draw_label(img, "Corner structure on the cube (section 0.10 m below the top), synthetic fabrics", left, 15, 2);
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+        const Cell& c = cells[k];
+        const int ri = static_cast<int>(k) / nc, ci = static_cast<int>(k) % nc;
+        const int x0 = left + ci * cw, y0 = top + (nr - 1 - ri) * ch;  // ratio grows upwards
+        render::fill_rect(img, x0 + 2, y0 + 2, x0 + cw - 2, y0 + ch - 2, colour.at(c.majority));
+        std::string t = fmt("billows %.2f", c.mean_billows) + "\n" +
+                        (c.mean_abs_angle > 0 ? fmt("|angle| %.0f deg", c.mean_abs_angle) : std::string("")) +
+                        (c.converged ? "" : "\nnot converged");
+        render::draw_label(img, t, x0 + 10, y0 + 10, 2);
+    }
+    for (int ri = 0; ri < nr; ++ri)
+        render::draw_label(img, fmt("%.3g", ratios[ri]), 20, top + (nr - 1 - ri) * ch + ch / 2 - 7, 2);
+    for (int ci = 0; ci < nc; ++ci)
+        render::draw_label(img, fmt("%.2g cm", lengths[ci]), left + ci * cw + cw / 2 - 25, top + nr * ch + 8, 2);
+    render::draw_label(img, "warp/weft", 10, top - 25, 2);
+    render::draw_label(img, "bending length c = (B/W)^(1/3), B = sqrt(B_warp B_weft)", left, top + nr * ch + 30, 2);
+    // Marks: x linear in the bending length between cell centres, y linear in log2(ratio).
+    for (std::size_t f = 0; f < paper.size(); ++f) {
+        const auto [len, ratio] = map_position(paper[f]);
+        const double fx = (len - lengths.front()) / (lengths.back() - lengths.front());
+        const double fy = (std::log2(ratio) - std::log2(ratios.front())) / (std::log2(ratios.back()) - std::log2(ratios.front()));
+        const double px = left + cw / 2.0 + fx * cw * (nc - 1), py = top + ch / 2.0 + (1 - fy) * ch * (nr - 1);
+        render::fill_disc(img, px, py, 7, Vec3(0, 0, 0));
+        render::fill_disc(img, px, py, 4.5, render::fabric_color(paper[f].color).array().pow(1 / 2.2).matrix());
+        render::draw_label(img, o.fabrics[f], static_cast<int>(px) + 10, static_cast<int>(py) - 6, 2);
+    }
+    int ly = top + nr * ch + 60, lx = left;
+    for (Structure s : {Structure::SINGLE_DIAGONAL, Structure::SINGLE_OFFSET, Structure::MULTIPLE, Structure::NONE}) {
+        render::fill_rect(img, lx, ly, lx + 20, ly + 14, colour.at(s));
+        render::draw_label(img, structure_name(s), lx + 26, ly, 2);
+        lx += 40 + render::label_width(structure_name(s), 2);
+        if (lx > left + cw * nc - 200) {
+            lx = left;
+            ly += 24;
+        }
+    }
+    render::draw_label(img, std::string("woven ") + WOVEN_VERSION + "; W, G of cotton", left, top + nr * ch + bottom - 30, 2,
+                       Vec3(0.3, 0.3, 0.3));
+    render::write_png(img, join_path(o.out, "corner_map.png"));
+
+    std::ostringstream md;
+    md << "# Corner-structure map\n\n" << provenance(command) << "\n\n"
+       << "Synthetic fabrics with the cotton's W (" << cv.W << " mg/cm2) and shear (G " << cv.G
+       << " gf/(cm.deg)), bending from the bending length c and the warp/weft ratio; one drape each (seed 1) over the cube, "
+       << "section 0.10 m below the top. Cell: the structure most corners show, the mean billow count per corner, the mean |angle| of single billows from the diagonal.\n\n";
+    md << "| warp/weft | c (cm) | B warp | B weft | structure | billows/corner | mean abs angle (deg) | corners (count (angles)) |\n|---|---|---|---|---|---|---|---|\n";
+    for (const Cell& c : cells) {
+        const double B = std::pow(c.length, 3) * cv.W * 1e-3;
+        md << "| " << fmt("%.3g", c.ratio) << " | " << fmt("%.2g", c.length) << " | " << fmt("%.3g", B * std::sqrt(c.ratio)) << " | "
+           << fmt("%.3g", B / std::sqrt(c.ratio)) << " | " << structure_name(c.majority) << (c.converged ? "" : " (not converged)")
+           << " | " << fmt("%.2f", c.mean_billows) << " | " << fmt("%.0f", c.mean_abs_angle) << " |";
+        for (const auto& b : c.corners) md << " " << corner_cell(b);
+        md << " |\n";
+    }
+    md << "\nThe paper's fabrics on the map:\n\n| fabric | c (cm) | warp/weft |\n|---|---|---|\n";
+    for (std::size_t f = 0; f < paper.size(); ++f) {
+        const auto [len, ratio] = map_position(paper[f]);
+        md << "| " << o.fabrics[f] << " | " << fmt("%.2f", len) << " | " << fmt("%.2f", ratio) << " |\n";
+    }
+    md << "\n![corner map](corner_map.png)\n";
+    io::write_file_atomic(join_path(o.out, "corner_map.md"), md.str());
+    nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"cells", jcells}};
+    io::write_file_atomic(join_path(o.out, "corner_map.json"), j.dump(1) + "\n");
+    std::cout << "wrote " << join_path(o.out, "corner_map.png") << ", corner_map.md, corner_map.json\n";
+    return kExitOk;
+}
+
+// ---------------------------------------------------------------------------------------------
+// woven experiment figure1
+
+int run_figure1(const ExperimentOptions& o, const std::string& command)
+{
+    std::vector<std::string> warnings;
+    const kes::FabricData fabric = io::find_fabric("cotton", &warnings);
+    print_warnings(warnings);
+    make_output_dir(o.out);
+    std::ostringstream md;
+    md << "# Fig. 1: a chair and an end table\n\n" << provenance(command) << "\n\n| scene | converged | steps | wall (s) |\n|---|---|---|---|\n";
+    nlohmann::json runs = nlohmann::json::array();
+    for (const std::string name : {"chair", "table"}) {
+        io::SceneSpec scene = io::find_scene(name);
+        const kes::FabricData f = io::find_fabric(scene.fabric, &warnings);
+        const Outcome d = drape(f, scene.fabric, 1, o, scene);
+        const render::DrapeScene ds = drape_scene(d, scene, f);
+        render::write_png(picture(ds, render::View::SCENE, 1024, 768), join_path(o.out, "figure1_" + name + ".png"));
+        md << "| " << name << " (" << scene.fabric << ", " << d.grid.nu << " x " << d.grid.nv << ") | " << (d.converged ? "yes" : "no")
+           << " | " << d.steps << " | " << fmt("%.0f", d.wall_s) << " |\n";
+        runs.push_back(outcome_json(d));
+        runs.back()["scene"] = name;
+    }
+    md << "\n![chair](figure1_chair.png)\n\n![table](figure1_table.png)\n";
+    io::write_file_atomic(join_path(o.out, "figure1.md"), md.str());
+    nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"runs", runs}};
+    io::write_file_atomic(join_path(o.out, "figure1.json"), j.dump(1) + "\n");
+    std::cout << "wrote " << join_path(o.out, "figure1_chair.png") << ", figure1_table.png, figure1.md\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+void add_experiment_command(CLI::App& app, int& exit_code)
+{
+    auto o = std::make_shared<ExperimentOptions>();
+    CLI::App* sub = app.add_subcommand("experiment", "Run one of the paper's experiments and write its figures and tables");
+    sub->footer("cube: cotton, wool and polyester/cotton over the cube for --seeds seeds (Sec. 6, Fig. 8): cube_figure.png "
+                "(corner, side, top views), cube_folds.md (fold table, how often each corner structure appears), "
+                "cube_results.json.\nmap: the corner structure over synthetic fabrics (warp/weft bending ratio 1/4 .. 4, "
+                "bending length 1 .. 5 cm; --map-grid): corner_map.png, corner_map.md, corner_map.json.\n"
+                "figure1: the chair and the end table (Fig. 1): figure1_chair.png, figure1_table.png, figure1.md.");
+    sub->add_option("EXPERIMENT", o->which, "cube, map or figure1")->required()->check(CLI::IsMember({"cube", "map", "figure1"}));
+    sub->add_option("--out", o->out, "Output directory")->capture_default_str();
+    sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")->capture_default_str()->check(CLI::Range(1, 100));
+    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (default: the scene's)")->check(CLI::Range(3, 401));
+    sub->add_option("--threads", o->threads, "Worker threads per drape (0: all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
+    sub->add_option("--map-grid", o->map_grid, "map: RxL, R ratios by L bending lengths")->capture_default_str();
+    sub->callback([o, &exit_code, sub] {
+        std::string command = "woven experiment " + o->which;
+        for (const CLI::Option* opt : sub->get_options())
+            if (opt->count() > 0 && opt->get_name() != "EXPERIMENT" && !opt->get_lnames().empty())
+                command += " --" + opt->get_lnames()[0] + " " + opt->as<std::string>();
+        if (o->which == "cube")
+            exit_code = run_cube(*o, command);
+        else if (o->which == "map")
+            exit_code = run_map(*o, command);
+        else
+            exit_code = run_figure1(*o, command);
+    });
+}
+
+}  // namespace woven::cli
