@@ -33,6 +33,10 @@ namespace {
 enum class Structure { NONE, SINGLE_DIAGONAL, SINGLE_OFFSET, MULTIPLE };
 /// A single billow within this angle of the corner's diagonal leaves it "at 45 degrees" (deg).
 constexpr double kDiagonalToleranceDeg = 15;
+/// Billows further than this from the diagonal (deg) stand in front of a side (45 deg is the
+/// side's normal): a wave of the side's panel, not a fold leaving the corner; the structure
+/// counts only the others.
+constexpr double kCornerConeDeg = 60;
 
 const char* structure_name(Structure s)
 {
@@ -45,8 +49,18 @@ const char* structure_name(Structure s)
     return "";
 }
 
-Structure classify(const std::vector<analysis::Billow>& billows)
+/// The billows of a corner that leave it (within kCornerConeDeg of its diagonal).
+std::vector<analysis::Billow> leaving(const std::vector<analysis::Billow>& all)
 {
+    std::vector<analysis::Billow> out;
+    for (const auto& b : all)
+        if (std::abs(b.angle_deg) <= kCornerConeDeg) out.push_back(b);
+    return out;
+}
+
+Structure classify(const std::vector<analysis::Billow>& all)
+{
+    const std::vector<analysis::Billow> billows = leaving(all);
     if (billows.empty()) return Structure::NONE;
     if (billows.size() > 1) return Structure::MULTIPLE;
     return std::abs(billows[0].angle_deg) <= kDiagonalToleranceDeg ? Structure::SINGLE_DIAGONAL : Structure::SINGLE_OFFSET;
@@ -58,7 +72,7 @@ struct ExperimentOptions {
     int seeds = 5;
     std::optional<int> grid;
     int threads = 1;
-    std::string map_grid = "5x3";
+    std::string map_grid = "5x4";
     std::vector<std::string> fabrics = {"cotton", "wool", "polyester_cotton"};
 };
 
@@ -225,9 +239,11 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
             md << "\n";
         }
     md << "\n## How often each corner structure appears\n\nOver all seeds and the four corners, on the section "
-       << fmt("%.2f", depths[0]) << " m below the top (a single billow counts as on the diagonal within "
-       << fmt("%.0f", kDiagonalToleranceDeg) << " degrees of it):\n\n";
-    md << "| fabric | corners | single, on the diagonal | single, off the diagonal | two or more folds | none | mean angle of single billows (deg) | mean |angle| (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
+       << fmt("%.2f", depths[0]) << " m below the top. Only billows within " << fmt("%.0f", kCornerConeDeg)
+       << " degrees of the corner's diagonal count as leaving the corner (beyond 45 degrees a billow stands in front of a side: "
+       << "a wave of the side's panel); a single one counts as on the diagonal within " << fmt("%.0f", kDiagonalToleranceDeg)
+       << " degrees of it:\n\n";
+    md << "| fabric | corners | single, on the diagonal | single, off the diagonal | two or more folds | none | mean angle of single billows (deg) | mean abs angle (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
     nlohmann::json stats = nlohmann::json::object();
     for (std::size_t f = 0; f < fabrics.size(); ++f) {
         std::map<Structure, int> count;
@@ -238,7 +254,7 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
             energies.push_back(d.energy_J);
             if (!d.folds) continue;
             for (int c = 0; c < 4; ++c) {
-                const auto b = d.folds->sections[0].at_corner(c);
+                const auto b = leaving(d.folds->sections[0].at_corner(c));
                 ++count[classify(b)];
                 ++corners;
                 if (b.size() == 1) {
@@ -268,7 +284,7 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
           "symmetric start and no perturbation every seed gives the same drape.\n\n![cube figure](cube_figure.png)\n";
     io::write_file_atomic(join_path(o.out, "cube_folds.md"), md.str());
     nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"runs", all}, {"statistics", stats},
-                     {"diagonal_tolerance_deg", kDiagonalToleranceDeg}};
+                     {"diagonal_tolerance_deg", kDiagonalToleranceDeg}, {"corner_cone_deg", kCornerConeDeg}};
     io::write_file_atomic(join_path(o.out, "cube_results.json"), j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "cube_figure.png") << ", cube_folds.md, cube_results.json\n";
     return kExitOk;
@@ -345,8 +361,9 @@ int run_map(const ExperimentOptions& o, const std::string& command)
             int singles = 0;
             if (d.folds)
                 for (int k = 0; k < 4; ++k) {
-                    const auto b = d.folds->sections[0].at_corner(k);
-                    cell.corners.push_back(b);
+                    const auto all = d.folds->sections[0].at_corner(k);
+                    const auto b = leaving(all);
+                    cell.corners.push_back(all);
                     cell.mean_billows += b.size() / 4.0;
                     ++count[classify(b)];
                     if (b.size() == 1) {
@@ -421,7 +438,8 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     md << "# Corner-structure map\n\n" << provenance(command) << "\n\n"
        << "Synthetic fabrics with the cotton's W (" << cv.W << " mg/cm2) and shear (G " << cv.G
        << " gf/(cm.deg)), bending from the bending length c and the warp/weft ratio; one drape each (seed 1) over the cube, "
-       << "section 0.10 m below the top. Cell: the structure most corners show, the mean billow count per corner, the mean |angle| of single billows from the diagonal.\n\n";
+       << "section 0.10 m below the top. Cell: the structure most corners show, the mean count per corner of billows leaving it (within "
+       << fmt("%.0f", kCornerConeDeg) << " degrees of the diagonal), the mean |angle| of single ones from the diagonal; the last column lists every billow in each corner's quadrant.\n\n";
     md << "| warp/weft | c (cm) | B warp | B weft | structure | billows/corner | mean abs angle (deg) | corners (count (angles)) |\n|---|---|---|---|---|---|---|---|\n";
     for (const Cell& c : cells) {
         const double B = std::pow(c.length, 3) * cv.W * 1e-3;
