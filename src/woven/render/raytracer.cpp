@@ -456,7 +456,7 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
     for (RTCScene s : {sc.all.get(), sc.cloth.get(), sc.solid.get()}) rtcCommitScene(s);
     check(device.get(), "rtcCommitScene");
     // All cloth faces as one mesh, for closest-point queries (Embree point queries in MeshObstacle).
-    std::unique_ptr<geometry::MeshObstacle> cloth_near;
+    std::unique_ptr<geometry::MeshObstacle> cloth_near, solid_near;
     const RenderMesh* first_cloth = nullptr;
     for (const RenderMesh& m : meshes)
         if (m.surface == Surface::CLOTH && !first_cloth) first_cloth = &m;
@@ -468,9 +468,20 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
             all_cloth.vertices.insert(all_cloth.vertices.end(), meshes[i].mesh.vertices.begin(), meshes[i].mesh.vertices.end());
             for (int f : prepared[i].faces) all_cloth.faces.push_back(meshes[i].mesh.faces[f] + Eigen::Vector3i::Constant(base));
         }
+        geometry::TriangleMesh all_solid;
+        for (std::size_t i = 0; i < meshes.size(); ++i) {
+            if (meshes[i].surface != Surface::SOLID) continue;
+            const int base = static_cast<int>(all_solid.vertices.size());
+            all_solid.vertices.insert(all_solid.vertices.end(), meshes[i].mesh.vertices.begin(), meshes[i].mesh.vertices.end());
+            for (int f : prepared[i].faces) all_solid.faces.push_back(meshes[i].mesh.faces[f] + Eigen::Vector3i::Constant(base));
+        }
         try {
-            if (!all_cloth.faces.empty()) cloth_near = std::make_unique<geometry::MeshObstacle>(std::move(all_cloth));
-        } catch (const InputError&) {  // e.g. a cloth of zero area: nothing to lie on anything
+            if (!all_cloth.faces.empty() && !all_solid.faces.empty()) {
+                cloth_near = std::make_unique<geometry::MeshObstacle>(std::move(all_cloth));
+                solid_near = std::make_unique<geometry::MeshObstacle>(std::move(all_solid));
+            }
+        } catch (const InputError&) {  // e.g. a cloth of zero area: nothing lies on anything
+            cloth_near.reset();
         }
     }
     const double inf = std::numeric_limits<double>::infinity();
@@ -496,10 +507,12 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
             } else if (cloth_near && meshes[h.mesh].surface == Surface::SOLID) {
                 // Where the obstacle pokes out past the cloth's silhouette (the ray grazes the
                 // poke and never meets the cloth behind it), an obstacle point within the
-                // priority distance of the cloth is under the cloth: show the cloth there.
+                // priority distance of the cloth, where the cloth lies on the obstacle (within a
+                // quarter of it), is under the cloth: show the cloth there. A hem hanging near
+                // an obstacle does not lie on it and stays as it is.
                 const Vec3 p = camera.eye + h.t * dir;
                 const geometry::ClosestPoint cp = cloth_near->closest(p);
-                if (std::abs(cp.distance) < priority) {
+                if (std::abs(cp.distance) < priority && solid_near->closest(cp.point).distance < 0.25 * priority) {
                     const Vec3 d2 = (cp.point - camera.eye).normalized();
                     const Hit c2 = intersect(sc.cloth.get(), sc.cloth_to_mesh, camera.eye, d2, inf);
                     if (c2.found) {
