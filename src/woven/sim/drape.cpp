@@ -61,7 +61,45 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
     return r;
 }
 
-Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress)
+namespace {
+
+/// Sets the OpenMP and BLAS thread counts for its lifetime (threads > 0), restoring them after.
+class ThreadCount {
+public:
+    explicit ThreadCount(int threads) : omp_(omp_get_max_threads()), blas_(blas_threads()), set_(threads > 0)
+    {
+        if (!set_) return;
+        omp_set_num_threads(threads);
+        set_blas_threads(threads);
+    }
+    ~ThreadCount()
+    {
+        if (!set_) return;
+        omp_set_num_threads(omp_);
+        if (blas_ > 0) set_blas_threads(blas_);
+    }
+    ThreadCount(const ThreadCount&) = delete;
+    ThreadCount& operator=(const ThreadCount&) = delete;
+
+private:
+    int omp_, blas_;
+    bool set_;
+};
+
+}  // namespace
+
+const char* to_string(SolverKind kind) { return kind == SolverKind::FAST ? "fast" : "paper"; }
+
+std::optional<SolverKind> solver_kind_from_string(std::string_view name)
+{
+    for (SolverKind k : {SolverKind::FAST, SolverKind::PAPER})
+        if (name == to_string(k)) return k;
+    return std::nullopt;
+}
+
+int default_max_steps(SolverKind kind) { return kind == SolverKind::FAST ? 400 : 200000; }
+
+Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress, const IterationCallback& iteration)
 {
     if (!problem.model || !problem.obstacles) throw InputError("", "problem", "needs a model and an obstacle set");
     if (static_cast<int>(problem.initial.size()) != problem.model->grid().size())
@@ -70,11 +108,9 @@ Result drape(const Problem& problem, const SolverOptions& options, const Progres
         if (!p.allFinite()) throw InputError("", "initial", "positions must be finite");
     for (int p : problem.pinned)
         if (p < 0 || p >= problem.model->grid().size()) throw InputError("", "pinned", "particle index out of range");
-    if (options.threads > 0) {
-        omp_set_num_threads(options.threads);
-        set_blas_threads(options.threads);
-    }
-    return options.kind == SolverKind::FAST ? detail::fast_drape(problem, options, progress) : detail::paper_drape(problem, options, progress);
+    const ThreadCount threads(options.threads);
+    return options.kind == SolverKind::FAST ? detail::fast_drape(problem, options, progress, iteration)
+                                            : detail::paper_drape(problem, options, progress, iteration);
 }
 
 }  // namespace woven::sim

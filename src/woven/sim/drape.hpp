@@ -9,6 +9,8 @@
 //         reproduction and comparison.
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "woven/common/types.hpp"
@@ -19,18 +21,72 @@ namespace woven::sim {
 
 enum class SolverKind { FAST, PAPER };
 
+/// "fast" or "paper".
+const char* to_string(SolverKind kind);
+/// The kind named "fast" or "paper"; nullopt for any other name.
+std::optional<SolverKind> solver_kind_from_string(std::string_view name);
+/// The step limit when SolverOptions::max_steps is 0: fast 400 steps, paper 200000.
+int default_max_steps(SolverKind kind);
+
+/// The backtracking (Armijo) line search of the fast solver's Newton iterations (line_search.hpp).
+struct LineSearchOptions {
+    double armijo = 1e-4;      ///< sufficient decrease: Phi(alpha) <= Phi(0) + armijo alpha slope
+    double shrink = 0.5;       ///< step factor per rejected trial
+    int max_trials = 40;       ///< trials before giving up
+    double min_fraction = 1e-12;  ///< smallest step fraction tried
+};
+
+/// Settings of the fast solver (fast_solver.cpp) beyond the shared ones, with their units.
+struct FastSolverOptions {
+    int max_newton_iterations = 120;  ///< per step; a step that needs more is halved
+    double max_time_step = 20.0;      ///< s: the largest step, effectively static
+    double min_time_step = 1e-4;      ///< s: the smallest step after halvings
+    double static_time_step = 1.0;    ///< s: from this step on, Newton is solved to the final tolerance
+    double step_growth = 2.0;         ///< step factor after a converged Newton solve
+    double step_shrink = 0.5;         ///< step factor after one that did not converge
+    double damping = 2.0;             ///< 1/s: viscous medium, v <- v / (1 + damping h)
+    double dynamic_tolerance = 0.1;   ///< Newton tolerance of dynamic steps, residual force / (m g)
+    double static_tolerance_factor = 0.5;  ///< static Newton tolerance, times residual_tolerance (below the equilibrium test's, which lets obstacles push)
+    double min_newton_step = 1e-10;   ///< m: a Newton step whose largest particle move is below this has converged
+    double trust_region = 1.0;        ///< largest particle move per Newton iteration, in sigma
+    double collision_safety = 0.8;    ///< fraction of the collision-free step taken (contact.hpp)
+    double barrier_stiffness = 10.0;  ///< kappa = this m g / d^ (an interior particle's weight held at about 0.7 d^)
+    double friction_slip = 1e-4;      ///< m: slip below which friction sticks (smoothing of Coulomb's law)
+    double cg_tolerance = 1e-6;       ///< linear solves: |H d + g| <= this |g| (linear_solver.hpp)
+    int max_cg_iterations = 12;       ///< beyond this the Newton matrix is factorised afresh
+    LineSearchOptions line_search;
+};
+
+/// Settings of the paper solver (paper_solver.cpp) beyond the shared ones, with their units.
+struct PaperSolverOptions {
+    int max_sweeps = 60;                ///< phase-2 sweeps per step at most
+    double sweep_tolerance = 0.02;      ///< a sweep moving no particle more than this times move_tolerance ends phase 2
+    double noise = 0.1;                 ///< random perturbation, relative to the particle's movement over the last step
+    double noise_fade = 0.01;           ///< in sigma: below this movement per step the perturbation fades (quadratically)
+    double pair_margin = 1.1;           ///< repulsion partners: pairs closer than this times sigma at the start of phase 2
+    double stiffness_strain = 0.01;     ///< the time step is capped at sqrt(m / (dt_cap k)), k = S'' at this strain
+    double dt_cap = 4.0;                ///< see stiffness_strain
+    double clearance = 0.5;             ///< particles are kept this times contact_distance off obstacles
+    double min_move_fraction = 1e-3;    ///< a particle's move is halved down to this fraction before it is dropped
+    int calm_steps = 10;                ///< equilibrium: movement below move_tolerance this many steps in a row ...
+    double calm_time = 0.1;             ///< s: ... and over at least this time
+    int progress_every = 50;            ///< steps between progress reports
+};
+
 /// Solver settings (SI). Defaults are those of `woven drape`.
 struct SolverOptions {
     SolverKind kind = SolverKind::FAST;
-    std::uint64_t seed = 1;         ///< random seed (the paper solver's stochastic phase)
-    int max_steps = 0;              ///< 0: the solver's default (fast 400 steps, paper 200000)
+    std::uint64_t seed = 1;            ///< random seed (the paper solver's stochastic phase; the fast solver's perturbation)
+    int max_steps = 0;                 ///< 0: default_max_steps(kind)
     double residual_tolerance = 1e-3;  ///< equilibrium: largest residual force / (m g) on a free particle
     double move_tolerance = 1e-5;      ///< paper solver equilibrium: largest particle move per step (m)
     double time_step = 1.0 / 60.0;     ///< first time step (s); the fast solver grows it as the cloth settles, the paper solver caps it (see paper_solver.cpp)
     double contact_distance = 1e-3;    ///< barrier activation distance d^ (m)
     double viscosity = 2.0;            ///< paper solver: drag coefficient of the viscous medium (1/s)
     double friction = 0.0;             ///< fast solver: Coulomb friction coefficient cloth-obstacle (0: none, as the paper)
-    int threads = 0;                   ///< 0: all cores
+    int threads = 0;                   ///< 0: leave the OpenMP / BLAS thread counts as they are (all cores); restored on return
+    FastSolverOptions fast;
+    PaperSolverOptions paper;
 };
 
 /// What to drape: the model, the obstacles, the start and the pinned particles.
@@ -51,6 +107,19 @@ struct StepInfo {
     double max_residual_rel = 0;  ///< largest residual force / (m g) over free particles
 };
 using ProgressCallback = std::function<bool(const StepInfo&)>;
+
+/// Progress within a step, for a display that moves while a long step is solved: the fast
+/// solver reports before each Newton iteration, the paper solver after each step's phase 2.
+/// The callback returns false to stop, as ProgressCallback's.
+struct IterationInfo {
+    int step = 0;               ///< the step being solved (from 1)
+    int iteration = 0;          ///< Newton iteration within it (fast), or phase-2 sweeps (paper)
+    int total_iterations = 0;   ///< over the run so far
+    double time_step = 0;       ///< s
+    double residual_rel = 0;    ///< fast: largest |grad Phi_i| / (m_i g) over free particles (Phi the step's incremental potential); paper: NaN
+    double tolerance = 0;       ///< fast: the Newton tolerance of this step on residual_rel; paper: NaN
+};
+using IterationCallback = std::function<bool(const IterationInfo&)>;
 
 /// Equilibrium measures of a state (MODEL-NOTES/issue: two numbers).
 struct Equilibrium {
@@ -75,8 +144,11 @@ struct Result {
     model::EnergyTerms energy;
 };
 
-/// Runs the chosen solver to equilibrium (or max_steps, or until the callback says stop).
-Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress = {});
+/// Runs the chosen solver to equilibrium (or max_steps, or until a callback says stop). With
+/// options.threads > 0, OpenMP and the BLAS run on that many threads during the call; the
+/// process-wide counts are restored on return.
+Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress = {},
+             const IterationCallback& iteration = {});
 
 /// Largest |x_i - y_i| over particles (m).
 double max_displacement(const Positions& x, const Positions& y);

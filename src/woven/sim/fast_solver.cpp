@@ -14,6 +14,7 @@
 #include "woven/common/units.hpp"
 #include "woven/sim/assembly.hpp"
 #include "woven/sim/contact.hpp"
+#include "woven/sim/line_search.hpp"
 #include "woven/sim/linear_solver.hpp"
 #include "woven/sim/solvers.hpp"
 
@@ -32,18 +33,18 @@ struct FastSolver {
     std::vector<double> weight;  ///< m g per particle (N), g standard gravity when the model has none
     Barrier barrier;
     std::vector<FrictionContact> friction;  ///< frozen at the step's start
-    /// Friction smoothing: a contact sticks (force below mu lambda) while it slips less than
-    /// this over a step. Much smaller makes the potential too sharp for Newton.
-    static constexpr double slip_eps = 1e-4;  // m
+    /// Friction smoothing (m): a contact sticks (force below mu lambda) while it slips less
+    /// than this over a step. Much smaller makes the potential too sharp for Newton.
+    double slip_eps;
 
     FastSolver(const Problem& problem, const SolverOptions& o)
-        : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem)), mass(model.masses())
+        : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem)), mass(model.masses()), slip_eps(o.fast.friction_slip)
     {
         const double g = model.gravity() > 0 ? model.gravity() : units::kStandardGravity;
         for (double m : mass) weight.push_back(m * g);
         // An interior particle's weight is held at about 0.7 d^ above a surface; an edge carrying
         // a hanging flap comes closer but never touches.
-        barrier = Barrier{options.contact_distance, 10.0 * (model.particle_mass() * g) / options.contact_distance};
+        barrier = Barrier{options.contact_distance, o.fast.barrier_stiffness * (model.particle_mass() * g) / options.contact_distance};
     }
 
     /// Phi at x (inertia toward x_tilde with 1/h^2 = inv_h2); +inf if any term is singular.
@@ -86,41 +87,44 @@ std::vector<model::Stencil<2>> off_pattern_pairs(const model::ClothModel& model,
 
 }  // namespace
 
-Result fast_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress)
+Result fast_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress, const IterationCallback& on_iteration)
 {
     const auto start = std::chrono::steady_clock::now();
+    const FastSolverOptions& fo = options.fast;
     FastSolver solver(problem, options);
     const model::ClothModel& model = solver.model;
     const int n = model.grid().size();
     const double sigma = model.grid().sigma;
-    const int max_steps = options.max_steps > 0 ? options.max_steps : 400;
-    constexpr int kMaxNewton = 120;  // per step; a step that needs more is halved
-    constexpr double kMaxStep = 20.0;       // s: the largest time step, effectively static
-    constexpr double kStaticStep = 1.0;     // s: from here on steps are solved to the final tolerance
-    constexpr double kDamping = 2.0;        // 1/s: viscous medium (as the paper's free fall)
-    constexpr double kDynamicTolerance = 0.1;  // Newton tolerance of dynamic steps, residual force / (m g)
+    const int max_steps = options.max_steps > 0 ? options.max_steps : default_max_steps(SolverKind::FAST);
 
     Result result;
     Positions x = problem.initial, v(n, Vec3::Zero()), x_tilde(n), x_prev, trial(n), dx(n);
     SparseAssembly system(model.stencils(), solver.pinned);
-    NewtonLinearSolver linear;
+    NewtonLinearSolver linear(NewtonLinearSolver::Options{fo.cg_tolerance, fo.max_cg_iterations});
     Eigen::VectorXd delta;
     std::vector<model::Stencil<2>> extra_pairs;
 
     double h = options.time_step;
     for (int step = 1; step <= max_steps; ++step) {
+        // The step: inertia toward x_tilde = x + h v, friction frozen at its start.
         x_prev = x;
         const double inv_h2 = 1.0 / (h * h);
         for (int i = 0; i < n; ++i) x_tilde[i] = solver.pinned[i] ? x[i] : Vec3(x[i] + h * v[i]);
         if (options.friction > 0) {
             solver.friction = friction_contacts(find_contacts(solver.obstacles, x, solver.barrier.d_hat), x, solver.barrier, options.friction);
         }
+        // Dynamic steps need much less accuracy than the final static solve (its tolerance
+        // is below the equilibrium test's, which lets obstacles push).
+        const double newton_tolerance = h < fo.static_time_step ? std::max(fo.dynamic_tolerance, options.residual_tolerance)
+                                                                : fo.static_tolerance_factor * options.residual_tolerance;
+
+        // Newton on Phi.
         double phi = solver.incremental_potential(x, x_tilde, inv_h2);
         int iterations = 0;
         bool newton_converged = false;
-        for (; iterations < kMaxNewton; ++iterations) {
-            // Self contact: pairs closer than sigma that the grid pattern does not couple get
-            // their own blocks (a changed set means a new symbolic factorisation).
+        for (; iterations < fo.max_newton_iterations; ++iterations) {
+            // Self contact: pairs closer than sigma that the stencils do not couple get their
+            // own blocks (a changed set means a new symbolic factorisation).
             std::vector<model::Stencil<2>> extra = off_pattern_pairs(model, x);
             if (extra != extra_pairs) {
                 extra_pairs = std::move(extra);
@@ -131,9 +135,10 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             double g_max = 0;  // largest |g_i| / (m_i g) over free particles
             for (int i = 0; i < n; ++i)
                 if (!solver.pinned[i]) g_max = std::max(g_max, g.segment<3>(3 * i).norm() / solver.weight[i]);
-            // Dynamic steps need much less accuracy than the final static solve (its tolerance
-            // is below the equilibrium test's, which lets obstacles push).
-            const double newton_tolerance = h < kStaticStep ? std::max(kDynamicTolerance, options.residual_tolerance) : 0.5 * options.residual_tolerance;
+            if (on_iteration && !on_iteration(IterationInfo{step, iterations, result.iterations + iterations, h, g_max, newton_tolerance})) {
+                result.interrupted = true;
+                break;
+            }
             if (g_max < newton_tolerance) {
                 newton_converged = true;
                 break;
@@ -144,30 +149,28 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
                 dx[i] = delta.segment<3>(3 * i);
                 step_max = std::max(step_max, dx[i].norm());
             }
-            if (step_max < 1e-10) {
+            if (step_max < fo.min_newton_step) {
                 newton_converged = true;
                 break;
             }
-            // Trust region (no particle moves more than sigma per iteration), then the
-            // collision-free fraction, then backtracking (Armijo) on Phi.
-            double alpha = std::min(1.0, sigma / step_max);
-            alpha = std::min(alpha, collision_free_fraction(solver.obstacles, x, dx));
-            const double slope = g.dot(delta);
-            bool accepted = false;
-            for (int ls = 0; ls < 40 && alpha > 1e-12; ++ls, alpha *= 0.5) {
-                for (int i = 0; i < n; ++i) trial[i] = x[i] + alpha * dx[i];
-                const double phi_trial = solver.incremental_potential(trial, x_tilde, inv_h2);
-                if (phi_trial <= phi + 1e-4 * alpha * slope) {
-                    x.swap(trial);
-                    phi = phi_trial;
-                    accepted = true;
-                    break;
-                }
-            }
-            if (!accepted) break;  // no descent left at round-off level
+            // Accept: inside the trust region (no particle moves more than trust_region sigma)
+            // and the collision-free fraction, the Armijo line search on Phi.
+            double alpha = std::min(1.0, fo.trust_region * sigma / step_max);
+            alpha = std::min(alpha, collision_free_fraction(solver.obstacles, x, dx, fo.collision_safety));
+            const LineSearchResult ls = line_search(
+                [&](double a) {
+                    for (int i = 0; i < n; ++i) trial[i] = x[i] + a * dx[i];
+                    return solver.incremental_potential(trial, x_tilde, inv_h2);
+                },
+                phi, g.dot(delta), alpha, fo.line_search);
+            if (!ls.accepted) break;  // no descent left at round-off level
+            x.swap(trial);
+            phi = ls.value;
         }
         result.iterations += iterations;
-        for (int i = 0; i < n; ++i) v[i] = solver.pinned[i] ? Vec3::Zero() : Vec3((x[i] - x_prev[i]) / h / (1.0 + kDamping * h));
+        if (result.interrupted) break;
+
+        for (int i = 0; i < n; ++i) v[i] = solver.pinned[i] ? Vec3::Zero() : Vec3((x[i] - x_prev[i]) / h / (1.0 + fo.damping * h));
         result.simulated_time += h;
         result.steps = step;
         result.equilibrium.max_move = max_displacement(x, x_prev);
@@ -188,8 +191,8 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         // short steps, and the steps lengthen (and damp more) as it settles. Growing only
         // after easy solves (<= 15 iterations) took 2.5 times the Newton iterations on the
         // 51 x 51 cube.
-        if (newton_converged) h = std::min(2.0 * h, kMaxStep);
-        else h = std::max(0.5 * h, 1e-4);
+        if (newton_converged) h = std::min(fo.step_growth * h, fo.max_time_step);
+        else h = std::max(fo.step_shrink * h, fo.min_time_step);
     }
     result.x = std::move(x);
     result.energy = model.evaluate(result.x);

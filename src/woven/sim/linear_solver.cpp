@@ -117,4 +117,11 @@ void set_blas_threads(int threads)
     if (auto setter = reinterpret_cast<Setter>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) setter(threads);
 }
 
+int blas_threads()
+{
+    using Getter = int (*)();
+    if (auto getter = reinterpret_cast<Getter>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"))) return getter();
+    return 0;
+}
+
 }  // namespace woven::sim

@@ -42,5 +42,7 @@ private:
 
 /// Threads the BLAS under the factorisation may use (OpenBLAS; a no-op for other BLAS).
 void set_blas_threads(int threads);
+/// The BLAS's thread count (OpenBLAS), or 0 when it cannot be asked.
+int blas_threads();
 
 }  // namespace woven::sim

@@ -178,8 +178,9 @@ private:
 
 }  // namespace
 
-Result paper_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress)
+Result paper_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress, const IterationCallback& on_iteration)
 {
+    const PaperSolverOptions& po = options.paper;
     const auto start = std::chrono::steady_clock::now();
     const model::ClothModel& model = *problem.model;
     const geometry::ObstacleSet& obstacles = *problem.obstacles;
@@ -187,24 +188,19 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
     const double sigma = model.grid().sigma;
     const std::vector<char> pinned = pinned_mask(problem);
     const double g = model.gravity();
-    const double stiffness = model.spacing().stretch(1.01 * sigma).d2;  // S'' at 1 % strain
+    const double stiffness = model.spacing().stretch((1.0 + po.stiffness_strain) * sigma).d2;  // S'' at 1 % strain
     // The cap uses an interior particle's mass W sigma^2.
-    const double dt = stiffness > 0 ? std::min(options.time_step, std::sqrt(model.particle_mass() / (4.0 * stiffness))) : options.time_step;
+    const double dt = stiffness > 0 ? std::min(options.time_step, std::sqrt(model.particle_mass() / (po.dt_cap * stiffness))) : options.time_step;
     std::vector<double> inertia(n);  // m_i / dt^2
     for (int i = 0; i < n; ++i) inertia[i] = model.mass(i) / (dt * dt);
-    const double clearance = 0.5 * options.contact_distance;
-    const int max_steps = options.max_steps > 0 ? options.max_steps : 200000;
-    constexpr int kMaxSweeps = 60;  // phase 2 stops earlier when a sweep moves no particle by more than kSweepTolerance
-    const double kSweepTolerance = 0.02 * options.move_tolerance;
-    constexpr double kNoise = 0.1;           // random perturbation relative to each particle's movement over the last step
-    const double kNoiseFade = 0.01 * sigma;  // below this movement per step the perturbation fades (quadratically)
-    constexpr double kPairMargin = 1.1;      // repulsion partners: pairs closer than kPairMargin sigma at the start of phase 2
-    // Equilibrium (Sec. 6): movement below the threshold this many steps in a row, and over at
-    // least kCalmTime: with a small step, a cloth released from rest moves less than the
+    const double clearance = po.clearance * options.contact_distance;
+    const int max_steps = options.max_steps > 0 ? options.max_steps : default_max_steps(SolverKind::PAPER);
+    const double sweep_tolerance = po.sweep_tolerance * options.move_tolerance;  // phase 2 ends when a sweep moves no particle more
+    const double noise_fade = po.noise_fade * sigma;
+    // Equilibrium (Sec. 6): movement below the threshold calm_steps steps in a row, and over at
+    // least calm_time: with a small step, a cloth released from rest moves less than the
     // threshold per step for its first steps.
-    constexpr int kCalmSteps = 10;
-    constexpr double kCalmTime = 0.1;  // s
-    const int calm_steps = std::max(kCalmSteps, static_cast<int>(std::ceil(kCalmTime / dt)));
+    const int calm_steps = std::max(po.calm_steps, static_cast<int>(std::ceil(po.calm_time / dt)));
 
     std::mt19937_64 rng(options.seed);
     std::normal_distribution<double> normal(0.0, 1.0 / std::sqrt(3.0));
@@ -238,8 +234,8 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
             const Vec3 Hn = solver.solve(c.normal);
             d -= (gap + d.dot(c.normal)) / c.normal.dot(Hn) * Hn;
         }
-        if (perturb) d += kNoise * last_move[p] * std::min(1.0, last_move[p] / kNoiseFade) * Vec3(normal(rng), normal(rng), normal(rng));
-        for (double alpha = 1.0; alpha > 1e-3; alpha *= 0.5) {
+        if (perturb) d += po.noise * last_move[p] * std::min(1.0, last_move[p] / noise_fade) * Vec3(normal(rng), normal(rng), normal(rng));
+        for (double alpha = 1.0; alpha > po.min_move_fraction; alpha *= 0.5) {
             Vec3 to = from;
             move_particle(obstacles, to, alpha * d, clearance, nullptr);
             x[p] = to;
@@ -264,19 +260,19 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
         // Phase 2: stochastic minimisation of the inter-particle energy plus proximity to x1,
         // particle by particle (Gauss-Seidel), sweeps alternating forward and backward; after
         // the first sweep only particles near one that moved are visited again.
-        // Repulsion partners: pairs closer than kPairMargin sigma, a margin for the moves of phase 2.
-        local.set_pairs(model.close_pairs(x1, kPairMargin * model.grid().sigma));
+        // Repulsion partners: pairs closer than pair_margin sigma, a margin for the moves of phase 2.
+        local.set_pairs(model.close_pairs(x1, po.pair_margin * model.grid().sigma));
         x = x1;
         int sweeps = 0;
         for (int i = 0; i < n; ++i) active[i] = !pinned[i];
-        for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+        for (int sweep = 0; sweep < po.max_sweeps; ++sweep) {
             ++sweeps;
             bool moved = false;
             std::fill(next.begin(), next.end(), 0);
             for (int s = 0; s < n; ++s) {
                 const int p = sweep % 2 == 0 ? s : n - 1 - s;
                 if (!active[p]) continue;
-                if (relax(p, sweep == 0) <= kSweepTolerance) continue;
+                if (relax(p, sweep == 0) <= sweep_tolerance) continue;
                 moved = true;
                 next[p] = 1;
                 local.for_each_neighbour(p, [&](int q) { next[q] = active[q] = !pinned[q]; });
@@ -292,7 +288,14 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
         result.simulated_time += dt;
         result.equilibrium.max_move = max_displacement(x, x_prev);
         calm = result.equilibrium.max_move < options.move_tolerance ? calm + 1 : 0;
-        const bool report = progress && (step % 50 == 0 || calm >= calm_steps);
+        if (on_iteration) {
+            constexpr double kNotComputed = std::numeric_limits<double>::quiet_NaN();
+            if (!on_iteration(IterationInfo{step, sweeps, result.iterations, dt, kNotComputed, kNotComputed})) {
+                result.interrupted = true;
+                break;
+            }
+        }
+        const bool report = progress && (step % po.progress_every == 0 || calm >= calm_steps);
         if (report || calm >= calm_steps)
             result.equilibrium.max_residual_rel = max_residual_relative(model, obstacles, x, problem.pinned, options.contact_distance);
         if (report) {
