@@ -16,8 +16,12 @@ for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"
   mkdir -p "$work" "$build/fuzz-artifacts"
   echo "fuzz_$t: ${seconds} s" >&2
+  log="$build/fuzz-$t.log"
   "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=16384 \
     -dict="${dicts[$t]}" -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
-    "$work" "$root/fuzz/corpus/$t" "${seeds[$t]}" 2>&1 | tail -n 25 || status=1
+    "$work" "$root/fuzz/corpus/$t" "${seeds[$t]}" > "$log" 2>&1 || { status=1; grep -A3 "ERROR\|deadly\|Test unit" "$log" >&2; }
+  # The last coverage line and the final counts (the whole log is in $log).
+  grep -E "^#[0-9]+" "$log" | tail -n 1 >&2
+  grep -E "^stat::(number_of_executed_units|average_exec_per_sec|new_units_added|peak_rss_mb)" "$log" >&2
 done
 exit $status
