@@ -393,14 +393,14 @@ int run_map(const ExperimentOptions& o, const std::string& command)
                                               {Structure::SINGLE_OFFSET, Vec3(0.96, 0.72, 0.45)},
                                               {Structure::MULTIPLE, Vec3(0.55, 0.68, 0.90)},
                                               {Structure::NONE, Vec3(0.85, 0.85, 0.85)}};
-    render::draw_label(img, "Corner structure on the cube (section 0.10 m below the top), synthetic fabrics", left, 15, 2);
+    render::draw_label(img, "Corner structure over the cube, 0.10 m below its top", left, 15, 2);
     for (std::size_t k = 0; k < cells.size(); ++k) {
         const Cell& c = cells[k];
         const int ri = static_cast<int>(k) / nc, ci = static_cast<int>(k) % nc;
         const int x0 = left + ci * cw, y0 = top + (nr - 1 - ri) * ch;  // ratio grows upwards
         render::fill_rect(img, x0 + 2, y0 + 2, x0 + cw - 2, y0 + ch - 2, colour.at(c.majority));
         std::string t = fmt("billows %.2f", c.mean_billows) + "\n" +
-                        (c.mean_abs_angle > 0 ? fmt("|angle| %.0f deg", c.mean_abs_angle) : std::string("")) +
+                        (c.mean_abs_angle > 0 ? fmt("abs angle %.0f deg", c.mean_abs_angle) : std::string("")) +
                         (c.converged ? "" : "\nnot converged");
         render::draw_label(img, t, x0 + 10, y0 + 10, 2);
     }
@@ -416,9 +416,12 @@ int run_map(const ExperimentOptions& o, const std::string& command)
         const double fx = (len - lengths.front()) / (lengths.back() - lengths.front());
         const double fy = (std::log2(ratio) - std::log2(ratios.front())) / (std::log2(ratios.back()) - std::log2(ratios.front()));
         const double px = left + cw / 2.0 + fx * cw * (nc - 1), py = top + ch / 2.0 + (1 - fy) * ch * (nr - 1);
+        const std::string name = o.fabrics[f];
+        render::fill_rect(img, static_cast<int>(px) + 8, static_cast<int>(py) - 9,
+                          static_cast<int>(px) + 14 + render::label_width(name, 2), static_cast<int>(py) + 9, Vec3(1, 1, 1), 0.85);
         render::fill_disc(img, px, py, 7, Vec3(0, 0, 0));
         render::fill_disc(img, px, py, 4.5, render::fabric_color(paper[f].color).array().pow(1 / 2.2).matrix());
-        render::draw_label(img, o.fabrics[f], static_cast<int>(px) + 10, static_cast<int>(py) - 6, 2);
+        render::draw_label(img, name, static_cast<int>(px) + 11, static_cast<int>(py) - 6, 2);
     }
     int ly = top + nr * ch + 60, lx = left;
     for (Structure s : {Structure::SINGLE_DIAGONAL, Structure::SINGLE_OFFSET, Structure::MULTIPLE, Structure::NONE}) {
