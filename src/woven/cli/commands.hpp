@@ -54,8 +54,10 @@ struct DrapeOptions {
 void add_fabrics_command(CLI::App& app, int& exit_code);
 void add_scenes_command(CLI::App& app, int& exit_code);
 void add_fit_command(CLI::App& app, int& exit_code);
+void add_kes_test_command(CLI::App& app, int& exit_code);  // cmd_kes_test.cpp
 void add_drape_command(CLI::App& app, int& exit_code);
 void add_render_command(CLI::App& app, int& exit_code);      // cmd_render.cpp
+void add_cusick_command(CLI::App& app, int& exit_code);      // cmd_cusick.cpp
 void add_experiment_command(CLI::App& app, int& exit_code);  // cmd_experiment.cpp
 
 int run_fabrics(const FabricsOptions& options);
