@@ -25,7 +25,7 @@ class Curvature : public testing::TestWithParam<double> {};  // sigma
 TEST_P(Curvature, ContinuousInValueAndSlopeAtQuarterPi)
 {
     const double sigma = GetParam();
-    const CurvatureValue below = thread_curvature(kQuarter, sigma);  // theta <= pi/4: a/theta + b
+    const CurvatureValue below = thread_curvature(kQuarter, sigma);                       // theta <= pi/4: a/theta + b
     const CurvatureValue above = thread_curvature(std::nextafter(kQuarter, 4.0), sigma);  // circle branch
     EXPECT_NEAR(below.K, above.K, 1e-9 * std::abs(above.K));
     EXPECT_NEAR(below.dK, above.dK, 1e-9 * std::abs(above.dK));
@@ -85,7 +85,8 @@ TEST_P(Curvature, DerivativesMatchFiniteDifferencesOnBothBranches)
     const double sigma = GetParam();
     for (double theta : {1e-3, 0.01, 0.1, 0.4, kQuarter - 1e-3, kQuarter + 1e-3, 1.0, 2.0, 3.0, kPi - 1e-3}) {
         const double h = 1e-6 * theta;
-        const CurvatureValue v = thread_curvature(theta, sigma), p = thread_curvature(theta + h, sigma), m = thread_curvature(theta - h, sigma);
+        const CurvatureValue v = thread_curvature(theta, sigma), p = thread_curvature(theta + h, sigma),
+                             m = thread_curvature(theta - h, sigma);
         EXPECT_NEAR((p.K - m.K) / (2 * h), v.dK, 1e-7 * std::abs(v.dK)) << theta;
         EXPECT_NEAR((p.dK - m.dK) / (2 * h), v.d2K, 1e-7 * std::abs(v.d2K) + 1e-9 / sigma) << theta;
     }

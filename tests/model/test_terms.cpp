@@ -60,7 +60,8 @@ template <class T> void check_term(const T& term, const typename T::X& x, bool c
         const auto fd = central<D>(x, [&](const VecN<D>& y) { return term.value(y); });
         Eigen::VectorXd fdv(D);
         for (int k = 0; k < D; ++k) fdv[k] = fd[k];
-        EXPECT_LE(max_relative_error(fdv, g.gradient), kGradientTolerance) << "value " << g.value << " J, gradient " << g.gradient.transpose();
+        EXPECT_LE(max_relative_error(fdv, g.gradient), kGradientTolerance)
+            << "value " << g.value << " J, gradient " << g.gradient.transpose();
     }
     const MatN<D> H = term.hessian(x);
     EXPECT_LE((H - H.transpose()).cwiseAbs().maxCoeff(), 1e-12 * H.cwiseAbs().maxCoeff());
@@ -81,8 +82,10 @@ template <class T> void check_term(const T& term, const typename T::X& x, bool c
     for (int k = 0; k < T::kParticles; ++k) {
         const model::ParticleLocal b = term.particle(x, k, Derivatives::PROJECTED);
         EXPECT_EQ(b.value, g.value);
-        EXPECT_LE((b.gradient - p.gradient.template segment<3>(3 * k)).cwiseAbs().maxCoeff(), 1e-14 * p.gradient.cwiseAbs().maxCoeff() + 1e-300);
-        EXPECT_LE((b.hessian - p.hessian.template block<3, 3>(3 * k, 3 * k)).cwiseAbs().maxCoeff(), 1e-13 * p.hessian.cwiseAbs().maxCoeff() + 1e-300);
+        EXPECT_LE((b.gradient - p.gradient.template segment<3>(3 * k)).cwiseAbs().maxCoeff(),
+                  1e-14 * p.gradient.cwiseAbs().maxCoeff() + 1e-300);
+        EXPECT_LE((b.hessian - p.hessian.template block<3, 3>(3 * k, 3 * k)).cwiseAbs().maxCoeff(),
+                  1e-13 * p.hessian.cwiseAbs().maxCoeff() + 1e-300);
     }
 }
 
@@ -121,11 +124,13 @@ TEST_P(PairTerms, GradientAndHessianMatchFiniteDifferences)
         check_term(model::RepulsionTerm(spacing), x, true, true);
     }
     // Exactly one of the two is active off r = sigma.
-    EXPECT_NE(model::StretchTerm(spacing).evaluate(x, Derivatives::NONE).vanishes, model::RepulsionTerm(spacing).evaluate(x, Derivatives::NONE).vanishes);
+    EXPECT_NE(model::StretchTerm(spacing).evaluate(x, Derivatives::NONE).vanishes,
+              model::RepulsionTerm(spacing).evaluate(x, Derivatives::NONE).vanishes);
 }
 INSTANTIATE_TEST_SUITE_P(Radii, PairTerms,
-                         testing::Values(PairCase{0.02, 1}, PairCase{0.1, 2}, PairCase{0.5, 3}, PairCase{0.9, 4}, PairCase{0.99, 5}, PairCase{0.999, 6},
-                                         PairCase{1.001, 7}, PairCase{1.01, 8}, PairCase{1.05, 9}, PairCase{1.2, 10}, PairCase{1.5, 11}));
+                         testing::Values(PairCase{0.02, 1}, PairCase{0.1, 2}, PairCase{0.5, 3}, PairCase{0.9, 4}, PairCase{0.99, 5},
+                                         PairCase{0.999, 6}, PairCase{1.001, 7}, PairCase{1.01, 8}, PairCase{1.05, 9}, PairCase{1.2, 10},
+                                         PairCase{1.5, 11}));
 
 TEST(PairTerms, SingularAndOutOfRange)
 {
@@ -212,10 +217,10 @@ TEST_P(Bending, ExactHessianMatchesFiniteDifferencesProjectedIsPositiveSemiDefin
 std::vector<AngleCase> bending_cases()
 {
     std::vector<AngleCase> c;
-    const std::pair<const char*, double> thetas[] = {{"straight", kPi},        {"pi_minus_1e6", kPi - 1e-6},         {"pi_minus_1e3", kPi - 1e-3},
-                                                     {"t3", 3.0},              {"t2", 2.0},                          {"half_pi", kPi / 2},
-                                                     {"quarter_pi_above", kPi / 4 + 1e-4}, {"quarter_pi_below", kPi / 4 - 1e-4}, {"t05", 0.5},
-                                                     {"t02", 0.2},             {"fold005", 0.05}};
+    const std::pair<const char*, double> thetas[] = {
+        {"straight", kPi},    {"pi_minus_1e6", kPi - 1e-6},         {"pi_minus_1e3", kPi - 1e-3},         {"t3", 3.0},  {"t2", 2.0},
+        {"half_pi", kPi / 2}, {"quarter_pi_above", kPi / 4 + 1e-4}, {"quarter_pi_below", kPi / 4 - 1e-4}, {"t05", 0.5}, {"t02", 0.2},
+        {"fold005", 0.05}};
     unsigned seed = 10;
     for (auto [n, t] : thetas) c.push_back({n, t, seed++});
     std::mt19937 rng(99);
@@ -267,8 +272,8 @@ TEST_P(Trellis, GradientAndHessianMatchFiniteDifferences)
 std::vector<AngleCase> trellis_cases()
 {
     std::vector<AngleCase> c;
-    const std::pair<const char*, double> phis[] = {{"zero", 0.0}, {"p1e7", 1e-7}, {"p1e3", 1e-3}, {"m005", -0.05}, {"p01", 0.1}, {"p03", 0.3},
-                                                   {"m06", -0.6}, {"p10", 1.0},   {"m104", -1.04}};
+    const std::pair<const char*, double> phis[] = {{"zero", 0.0}, {"p1e7", 1e-7}, {"p1e3", 1e-3}, {"m005", -0.05}, {"p01", 0.1},
+                                                   {"p03", 0.3},  {"m06", -0.6},  {"p10", 1.0},   {"m104", -1.04}};
     unsigned seed = 40;
     for (auto [n, p] : phis) c.push_back({n, p, seed++});
     std::mt19937 rng(98);
@@ -282,7 +287,8 @@ TEST(Trellis, EqualsTheEnergyOfTheAngleAndIsInfinitePastTheSingularAngle)
 {
     const model::TrellisEnergy energy(Curves::fitted().shear, kSigma, units::GramForce::PAPER);
     const model::TrellisTerm term(energy);
-    for (double phi : {0.05, -0.2, 0.4}) EXPECT_NEAR(term.value(crossing(phi, 3)), energy.of_angle(phi).value, 1e-12 * energy.of_angle(phi).value);
+    for (double phi : {0.05, -0.2, 0.4})
+        EXPECT_NEAR(term.value(crossing(phi, 3)), energy.of_angle(phi).value, 1e-12 * energy.of_angle(phi).value);
     EXPECT_TRUE(std::isinf(term.value(crossing(1.06, 3))));
 }
 
@@ -332,11 +338,16 @@ TEST(Stencils, MaskKeepsOnlyWhollyActiveStencils)
     EXPECT_FALSE(has(s.crossings, hole));
     EXPECT_EQ(s.edges.size(), static_cast<size_t>(2 * 4 * 5 - 4));
     EXPECT_EQ(s.warp_bends.size(), static_cast<size_t>(15 - 3));  // the three with (2, 2) in them
-    EXPECT_EQ(s.crossings.size(), static_cast<size_t>(9 - 5));     // at (2, 2) and its four neighbours
-    ASSERT_EQ(s.coupled_with(hole).size(), 1u);                    // itself only
+    EXPECT_EQ(s.crossings.size(), static_cast<size_t>(9 - 5));    // at (2, 2) and its four neighbours
+    ASSERT_EQ(s.coupled_with(hole).size(), 1u);                   // itself only
     // The model on the masked grid: no energy or mass from the hole, and no repulsion with it.
-    const model::ClothModel m(kes::FittedFabric{"t", kCottonW / units::kMgPerCm2ToKgPerM2, Curves::fitted().warp, Curves::fitted().weft, Curves::fitted().shear},
-                              grid, model::ModelOptions{}, active);
+    // (The paper's convention: every other particle a full patch; the convergent one's dual
+    // cells are tested in tests/testers/test_discretization.cpp.)
+    model::ModelOptions paper;
+    paper.discretization = model::Discretization::PAPER;
+    const model::ClothModel m(
+        kes::FittedFabric{"t", kCottonW / units::kMgPerCm2ToKgPerM2, Curves::fitted().warp, Curves::fitted().weft, Curves::fitted().shear},
+        grid, paper, active);
     EXPECT_EQ(m.mass(hole), 0.0);
     EXPECT_NEAR(m.mass(0), kCottonW * kSigma * kSigma, 1e-18);
     Positions x = model::flat_grid(grid, Vec3(0, 0, 0.5));

@@ -55,8 +55,9 @@ template <int N> MatN<3 * N> to_particles(const AffinePair<N>& s, const MatN<6>&
     MatN<3 * N> out;
     for (int k = 0; k < N; ++k)
         for (int l = 0; l < N; ++l)
-            out.template block<3, 3>(3 * k, 3 * l) = s.alpha[k] * s.alpha[l] * H.topLeftCorner<3, 3>() + s.alpha[k] * s.beta[l] * H.topRightCorner<3, 3>()
-                + s.beta[k] * s.alpha[l] * H.bottomLeftCorner<3, 3>() + s.beta[k] * s.beta[l] * H.bottomRightCorner<3, 3>();
+            out.template block<3, 3>(3 * k, 3 * l) = s.alpha[k] * s.alpha[l] * H.topLeftCorner<3, 3>()
+                + s.alpha[k] * s.beta[l] * H.topRightCorner<3, 3>() + s.beta[k] * s.alpha[l] * H.bottomLeftCorner<3, 3>()
+                + s.beta[k] * s.beta[l] * H.bottomRightCorner<3, 3>();
     return out;
 }
 

@@ -4,7 +4,8 @@
 
 namespace woven::sim {
 
-SparseAssembly::SparseAssembly(const model::Stencils& stencils, const std::vector<char>& pinned, const std::vector<model::Stencil<2>>& extra_pairs)
+SparseAssembly::SparseAssembly(const model::Stencils& stencils, const std::vector<char>& pinned,
+                               const std::vector<model::Stencil<2>>& extra_pairs)
     : pinned_(pinned)
 {
     const int n = static_cast<int>(stencils.active.size());

@@ -19,7 +19,8 @@ namespace woven::sim {
 /// gradient, so a Newton step leaves them in place. A model::LocalSink.
 class SparseAssembly {
 public:
-    SparseAssembly(const model::Stencils& stencils, const std::vector<char>& pinned, const std::vector<model::Stencil<2>>& extra_pairs = {});
+    SparseAssembly(const model::Stencils& stencils, const std::vector<char>& pinned,
+                   const std::vector<model::Stencil<2>>& extra_pairs = {});
 
     /// Zeroes gradient and matrix values.
     void clear();

@@ -33,8 +33,8 @@ struct Contact {
 /// and is mu lambda beyond (sliding).
 struct FrictionContact {
     int particle = 0;
-    Vec3 anchor;     ///< the particle's position at the step's start
-    Mat3 tangent;    ///< I - n n^T
+    Vec3 anchor;       ///< the particle's position at the step's start
+    Mat3 tangent;      ///< I - n n^T
     double bound = 0;  ///< mu lambda (N): the largest friction force
     /// D, dD/dx and a PSD Hessian (mu lambda f1(y)/y T) at x, for slip smoothing eps (m).
     double value(const Vec3& x, double eps) const;

@@ -4,8 +4,10 @@
 
 namespace woven::sim::detail {
 
-Result fast_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress, const IterationCallback& iteration);
-Result paper_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress, const IterationCallback& iteration);
+Result fast_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress,
+                  const IterationCallback& iteration);
+Result paper_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress,
+                   const IterationCallback& iteration);
 
 /// Pinned particles, and those not part of the cloth (inactive), as a mask: held in place.
 std::vector<char> pinned_mask(const Problem& problem);
