@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -74,6 +75,7 @@ struct ExperimentOptions {
     std::optional<int> grid;
     int threads = 1;
     std::string map_grid = "5x4";
+    std::optional<std::string> reuse;  ///< map: an earlier corner_map.json whose drapes to analyse again
     std::vector<std::string> fabrics = {"cotton", "wool", "polyester_cotton"};
 };
 
@@ -348,21 +350,67 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     };
     std::vector<Cell> cells;
     nlohmann::json jcells = nlohmann::json::array();
+    // --reuse: the drapes of an earlier run (its corner_map.json), analysed again (no draping).
+    nlohmann::json reused;
+    if (o.reuse) {
+        std::ifstream in(*o.reuse);
+        if (!in) throw InputError(*o.reuse, "file", "cannot read the corner_map.json to reuse");
+        try {
+            reused = nlohmann::json::parse(in);
+        } catch (const std::exception&) {
+            throw InputError(*o.reuse, "json", "expected the corner_map.json an earlier `woven experiment map` wrote");
+        }
+        if (!reused.is_object() || !reused.contains("cells") || !reused["cells"].is_array())
+            throw InputError(*o.reuse, "cells", "expected the corner_map.json an earlier `woven experiment map` wrote");
+    }
+    auto reused_cell = [&](double r, double c) -> const nlohmann::json& {
+        for (const auto& jc : reused["cells"])
+            if (jc.contains("ratio_warp_weft") && jc.contains("bending_length_cm") && jc["ratio_warp_weft"].is_number() &&
+                jc["bending_length_cm"].is_number() && std::abs(jc["ratio_warp_weft"].get<double>() - r) < 1e-9 * r &&
+                std::abs(jc["bending_length_cm"].get<double>() - c) < 1e-9 * c)
+                return jc;
+        throw InputError(*o.reuse, "cells", "no drape for ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) +
+                                                " cm (use the same --map-grid)");
+    };
     for (double r : ratios)
         for (double c : lengths) {
-            std::vector<std::string> w;
-            const kes::FabricData fab = io::parse_fabric(synthetic_fabric(r, c, cv.W, cv.G), "synthetic fabric", &w);
-            io::SceneSpec scene = io::find_scene("cube");
-            const Outcome d = drape(fab, "ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm", 1, o, scene);
+            Outcome d;
+            nlohmann::json jc;
+            std::vector<std::vector<analysis::Billow>> corner_billows(4);
+            if (o.reuse) {
+                jc = reused_cell(r, c);
+                d.converged = jc.value("converged", false);
+                const auto& jf = jc["folds"];
+                if (jf.is_object())
+                    for (int k = 0; k < 4; ++k) {
+                        const auto& a = jf["corners"][k]["angles_deg"][0];
+                        const auto& so = jf["corners"][k]["standout_m"][0];
+                        for (std::size_t m = 0; m < a.size(); ++m) {
+                            analysis::Billow b;
+                            b.corner = k;
+                            b.angle_deg = a[m].is_number() ? a[m].get<double>() : 0.0;
+                            b.standout_m = so[m].is_number() ? so[m].get<double>() : 0.0;
+                            corner_billows[k].push_back(b);
+                        }
+                    }
+            } else {
+                std::vector<std::string> w;
+                const kes::FabricData fab = io::parse_fabric(synthetic_fabric(r, c, cv.W, cv.G), "synthetic fabric", &w);
+                io::SceneSpec scene = io::find_scene("cube");
+                d = drape(fab, "ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm", 1, o, scene);
+                jc = outcome_json(d);
+                if (d.folds)
+                    for (int k = 0; k < 4; ++k) corner_billows[k] = d.folds->sections[0].at_corner(k);
+            }
             Cell cell;
             cell.ratio = r;
             cell.length = c;
             cell.converged = d.converged;
             std::map<Structure, int> count;
             int singles = 0;
-            if (d.folds)
+            if (o.reuse || d.folds)
                 for (int k = 0; k < 4; ++k) {
-                    const auto all = d.folds->sections[0].at_corner(k);
+                    const auto all = corner_billows[k];
                     const auto b = leaving(all);
                     cell.corners.push_back(all);
                     cell.mean_billows += b.size() / 4.0;
@@ -379,7 +427,6 @@ int run_map(const ExperimentOptions& o, const std::string& command)
                     best = n;
                     cell.majority = s;
                 }
-            nlohmann::json jc = outcome_json(d);
             jc["ratio_warp_weft"] = r;
             jc["bending_length_cm"] = c;
             jc["structure"] = structure_name(cell.majority);
@@ -401,7 +448,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
         const int x0 = left + ci * cw, y0 = top + (nr - 1 - ri) * ch;  // ratio grows upwards
         render::fill_rect(img, x0 + 2, y0 + 2, x0 + cw - 2, y0 + ch - 2, colour.at(c.majority));
         std::string t = fmt("billows %.2f", c.mean_billows) + "\n" +
-                        (c.mean_abs_angle > 0 ? fmt("abs angle %.0f deg", c.mean_abs_angle) : std::string("")) +
+                        (c.mean_abs_angle > 0 ? fmt("%.0f deg off", c.mean_abs_angle) : std::string("")) +
                         (c.converged ? "" : "\nnot converged");
         render::draw_label(img, t, x0 + 10, y0 + 10, 2);
     }
@@ -439,7 +486,11 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     render::write_png(img, join_path(o.out, "corner_map.png"));
 
     std::ostringstream md;
-    md << "# Corner-structure map\n\n" << provenance(command) << "\n\n"
+    md << "# Corner-structure map\n\n" << provenance(command) << "\n\n";
+    if (o.reuse)
+        md << "The drapes are those of `" << reused.value("command", std::string("?")) << "` (woven "
+           << reused.value("version", std::string("?")) << "), read back from its corner_map.json and analysed again.\n\n";
+    md
        << "Synthetic fabrics with the cotton's W (" << cv.W << " mg/cm2) and shear (G " << cv.G
        << " gf/(cm.deg)), bending from the bending length c and the warp/weft ratio; one drape each (seed 1) over the cube, "
        << "section 0.10 m below the top. Cell: the structure most corners show, the mean count per corner of billows leaving it (within "
@@ -461,6 +512,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     md << "\n![corner map](corner_map.png)\n";
     io::write_file_atomic(join_path(o.out, "corner_map.md"), md.str());
     nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"cells", jcells}};
+    if (o.reuse) j["drapes_from"] = {{"file", *o.reuse}, {"command", reused.value("command", "")}, {"version", reused.value("version", "")}};
     io::write_file_atomic(join_path(o.out, "corner_map.json"), j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "corner_map.png") << ", corner_map.md, corner_map.json\n";
     return kExitOk;
@@ -514,6 +566,7 @@ void add_experiment_command(CLI::App& app, int& exit_code)
     sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (default: the scene's)")->check(CLI::Range(3, 401));
     sub->add_option("--threads", o->threads, "Worker threads per drape (0: all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
     sub->add_option("--map-grid", o->map_grid, "map: RxL, R ratios by L bending lengths")->capture_default_str();
+    sub->add_option("--reuse", o->reuse, "map: analyse the drapes of an earlier run again (its corner_map.json), without draping");
     sub->callback([o, &exit_code, sub] {
         std::string command = "woven experiment " + o->which;
         for (const CLI::Option* opt : sub->get_options())
