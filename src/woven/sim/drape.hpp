@@ -53,7 +53,9 @@ struct FastSolverOptions {
     double barrier_stiffness = 10.0;  ///< kappa = this m g / d^ (an interior particle's weight held at about 0.7 d^)
     double friction_slip = 1e-4;      ///< m: slip below which friction sticks (smoothing of Coulomb's law)
     double cg_tolerance = 1e-6;       ///< linear solves: |H d + g| <= this |g| (linear_solver.hpp)
+    double dynamic_cg_tolerance = 1e-6;  ///< the same in dynamic steps (an inexact Newton forcing term; 0.1 saves factorisations but moves the drape)
     int max_cg_iterations = 12;       ///< beyond this the Newton matrix is factorised afresh
+    bool static_newton_cg = true;     ///< static steps: CG on the exact Hessian preconditioned by the projected one's factor (linear_solver.hpp)
     LineSearchOptions line_search;
 };
 

@@ -3,7 +3,11 @@
 // (CHOLMOD, nested-dissection ordering) is expensive (~60 ms at 51 x 51 particles) while a
 // solve with it is cheap (~1 ms), and H changes little from one Newton iteration to the next:
 // so the last factorisation preconditions a conjugate-gradient solve with the current H, and H
-// is factorised afresh only when that stops converging quickly.
+// is factorised afresh only when that stops converging quickly. Near rest the PSD matrix is a
+// poor model of the energy's soft modes (the projected terms drop their negative parts): there
+// the same factor preconditions CG on the exact Hessian instead (truncated Newton-CG), which
+// stops at the first direction of negative curvature (Steihaug), so the step stays a descent
+// direction.
 #include <memory>
 
 #include <Eigen/Sparse>
@@ -25,6 +29,16 @@ public:
     /// Solves H d = rhs for symmetric positive definite H (both triangles stored). Throws
     /// RuntimeError if H cannot be factorised even with a diagonal shift.
     void solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d);
+    /// Solves A d = rhs to |A d - rhs| <= tolerance |rhs| by CG preconditioned with the factor
+    /// of the positive definite P (factorised afresh when the last factor no longer gives
+    /// convergence within max_cg_iterations). A is the exact, possibly indefinite Hessian: at
+    /// a direction of negative curvature CG stops with its last iterate (the preconditioned
+    /// right-hand side P^-1 rhs if it is the first), and after a fresh factorisation it is
+    /// given 4 max_cg_iterations and stops there. d is a descent direction for -rhs.
+    void solve_exact(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& P, const Eigen::VectorXd& rhs, Eigen::VectorXd& d,
+                     double tolerance);
+    /// The CG tolerance of solve() (the forcing term of an inexact Newton method).
+    void set_tolerance(double relative_tolerance) { options_.relative_tolerance = relative_tolerance; }
 
     int factorizations() const { return factorizations_; }
     int cg_iterations() const { return cg_iterations_; }
@@ -33,6 +47,9 @@ private:
     void factorize(const Eigen::SparseMatrix<double>& H);
     /// Preconditioned CG from d = 0; true when converged within the iteration limit.
     bool preconditioned_cg(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d);
+    enum class CgEnd { CONVERGED, LIMIT, NEGATIVE_CURVATURE };
+    /// Preconditioned CG on A from d = 0 to `tolerance`, at most `max_iterations`.
+    CgEnd truncated_cg(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& rhs, Eigen::VectorXd& d, double tolerance, int max_iterations);
 
     struct Factor;
     Options options_;
