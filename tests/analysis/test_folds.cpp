@@ -48,8 +48,8 @@ double angle_deg(const Vec2& v) { return std::atan2(v.y(), v.x()) / kDeg; }
 /// point in the cone is exactly that far from the rectangle), straight sides at kBase in
 /// between; 0.5 degree steps. Starts at corner `start_corner`'s direction `start_deg` from its
 /// diagonal, so a billow there straddles the start.
-std::vector<Vec2> ring(const BoxFootprint& box, const std::vector<CornerSpec>& corners, int start_corner,
-                       double start_deg, double ripple = 0.0)
+std::vector<Vec2> ring(const BoxFootprint& box, const std::vector<CornerSpec>& corners, int start_corner, double start_deg,
+                       double ripple = 0.0)
 {
     std::vector<Vec2> pts;
     int start = 0;
@@ -64,8 +64,7 @@ std::vector<Vec2> ring(const BoxFootprint& box, const std::vector<CornerSpec>& c
         }
         for (int k = 0; k < 180; ++k) {
             const double phi = first + 0.5 * k;
-            pts.push_back(corner + corner_profile(corners[c], diag, phi, ripple) *
-                                       Vec2(std::cos(phi * kDeg), std::sin(phi * kDeg)));
+            pts.push_back(corner + corner_profile(corners[c], diag, phi, ripple) * Vec2(std::cos(phi * kDeg), std::sin(phi * kDeg)));
         }
         const Vec2 next = box.corner((c + 1) % 4);
         const Vec2 normal(std::cos((first + 90) * kDeg), std::sin((first + 90) * kDeg));

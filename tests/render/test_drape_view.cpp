@@ -134,14 +134,15 @@ TEST(DrapeView, ClothPixelsAreWhereTheMeshProjects)
         auto cross = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) { return p.x() * q.y() - p.y() * q.x(); };
         const double area = cross(b - a, c - a);
         if (area == 0) continue;
-        const int x0 = std::max(0, int(std::floor(std::min({a.x(), b.x(), c.x()})))), x1 = std::min(W - 1, int(std::ceil(std::max({a.x(), b.x(), c.x()}))));
-        const int y0 = std::max(0, int(std::floor(std::min({a.y(), b.y(), c.y()})))), y1 = std::min(H - 1, int(std::ceil(std::max({a.y(), b.y(), c.y()}))));
+        const int x0 = std::max(0, int(std::floor(std::min({a.x(), b.x(), c.x()})))),
+                  x1 = std::min(W - 1, int(std::ceil(std::max({a.x(), b.x(), c.x()}))));
+        const int y0 = std::max(0, int(std::floor(std::min({a.y(), b.y(), c.y()})))),
+                  y1 = std::min(H - 1, int(std::ceil(std::max({a.y(), b.y(), c.y()}))));
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x) {
                 const Eigen::Vector2d pc(x + 0.5, y + 0.5);
                 const double s = area > 0 ? 1 : -1;
-                if (s * cross(b - a, pc - a) >= 0 && s * cross(c - b, pc - b) >= 0 && s * cross(a - c, pc - c) >= 0)
-                    inside[y * W + x] = 1;
+                if (s * cross(b - a, pc - a) >= 0 && s * cross(c - b, pc - b) >= 0 && s * cross(a - c, pc - c) >= 0) inside[y * W + x] = 1;
             }
     }
     int interior = 0, exterior = 0, covered = 0, drawn = 0;

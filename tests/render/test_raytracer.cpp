@@ -110,9 +110,7 @@ TEST(Render, FloorUnderAnOccluderIsShadowed)
     RenderOptions opt;
     opt.width = opt.height = 200;
     opt.light_dir = Vec3(1, 0, 1).normalized();  // shadow centred on (-1, 0, 0)
-    auto column = [&](double x) {
-        return static_cast<int>(std::floor(opt.width / 2.0 * (1 + x / (10 * std::tan(20 * kPi / 180)))));
-    };
+    auto column = [&](double x) { return static_cast<int>(std::floor(opt.width / 2.0 * (1 + x / (10 * std::tan(20 * kPi / 180))))); };
     const Image lit_img = render::render({floor, ball}, cam, opt);
     const int shadow = grey(lit_img, column(-1.0), 100), lit = grey(lit_img, column(1.5), 100);
     EXPECT_LT(shadow + 60, lit) << "shadow " << shadow << " lit " << lit;

@@ -230,9 +230,8 @@ std::vector<Billow> find_billows(const Section& section, const BoxFootprint& box
         }
         i = j + 1;
     }
-    std::sort(billows.begin(), billows.end(), [](const Billow& x, const Billow& y) {
-        return x.corner != y.corner ? x.corner < y.corner : x.angle_deg < y.angle_deg;
-    });
+    std::sort(billows.begin(), billows.end(),
+              [](const Billow& x, const Billow& y) { return x.corner != y.corner ? x.corner < y.corner : x.angle_deg < y.angle_deg; });
     return billows;
 }
 
@@ -299,8 +298,7 @@ double projected_area(const geometry::TriangleMesh& mesh, double cell_m)
 FoldAnalysis analyse_folds(const geometry::TriangleMesh& cloth, const BoxFootprint& box, const FoldOptions& options)
 {
     const std::string src = "fold analysis";
-    if (!(box.half.x() > 0 && box.half.y() > 0) || !box.centre.allFinite() || !std::isfinite(box.yaw_rad) ||
-        !std::isfinite(box.top_z))
+    if (!(box.half.x() > 0 && box.half.y() > 0) || !box.centre.allFinite() || !std::isfinite(box.yaw_rad) || !std::isfinite(box.top_z))
         throw InputError(src, "box", "finite centre, yaw and top, half extents > 0");
     if (!(options.prominence_m > 0)) throw InputError(src, "prominence_m", "a prominence > 0 m");
     for (double depth : options.depths_m)
@@ -346,10 +344,14 @@ FoldAnalysis analyse_folds(const geometry::TriangleMesh& cloth, const BoxFootpri
         }
         const Vec2 q = box.to_local(p.head<2>());
         int side = -1;
-        if (q.x() > box.half.x() && std::abs(q.y()) <= box.half.y()) side = 0;
-        else if (q.y() > box.half.y() && std::abs(q.x()) <= box.half.x()) side = 1;
-        else if (q.x() < -box.half.x() && std::abs(q.y()) <= box.half.y()) side = 2;
-        else if (q.y() < -box.half.y() && std::abs(q.x()) <= box.half.x()) side = 3;
+        if (q.x() > box.half.x() && std::abs(q.y()) <= box.half.y())
+            side = 0;
+        else if (q.y() > box.half.y() && std::abs(q.x()) <= box.half.x())
+            side = 1;
+        else if (q.x() < -box.half.x() && std::abs(q.y()) <= box.half.y())
+            side = 2;
+        else if (q.y() < -box.half.y() && std::abs(q.x()) <= box.half.x())
+            side = 3;
         if (side >= 0) side_low[side] = std::min(side_low[side], p.z());
     }
     for (int s = 0; s < 4; ++s) fa.hanging_m[s] = std::isfinite(side_low[s]) ? box.top_z - side_low[s] : 0.0;

@@ -27,10 +27,10 @@ namespace woven::analysis {
 /// The obstacle's footprint: a rectangle (box frame rotated by `yaw_rad` about +z) and the
 /// height of its top face.
 struct BoxFootprint {
-    Vec2 centre = Vec2::Zero();     ///< m, in the xy plane
-    Vec2 half = Vec2(0.25, 0.25);   ///< half extents along the box's x and y axes (m), > 0
-    double yaw_rad = 0;             ///< rotation about +z (rad)
-    double top_z = 0.5;             ///< height of the top face (m)
+    Vec2 centre = Vec2::Zero();    ///< m, in the xy plane
+    Vec2 half = Vec2(0.25, 0.25);  ///< half extents along the box's x and y axes (m), > 0
+    double yaw_rad = 0;            ///< rotation about +z (rad)
+    double top_z = 0.5;            ///< height of the top face (m)
 
     /// Box-frame coordinates of a world xy point.
     Vec2 to_local(const Vec2& p) const;
@@ -73,11 +73,11 @@ std::vector<Section> slice(const geometry::TriangleMesh& mesh, double height);
 
 /// One billow.
 struct Billow {
-    int corner = 0;            ///< 0..3
-    double angle_deg = 0;      ///< from the corner's diagonal to (peak - corner), counter-clockwise positive
-    double standout_m = 0;     ///< distance of the peak from the footprint (m)
-    double prominence_m = 0;   ///< its topographic prominence along the section (m)
-    Vec3 point = Vec3::Zero(); ///< the peak (m)
+    int corner = 0;             ///< 0..3
+    double angle_deg = 0;       ///< from the corner's diagonal to (peak - corner), counter-clockwise positive
+    double standout_m = 0;      ///< distance of the peak from the footprint (m)
+    double prominence_m = 0;    ///< its topographic prominence along the section (m)
+    Vec3 point = Vec3::Zero();  ///< the peak (m)
 };
 
 /// The billows of one section: the maxima of footprint distance along it (a closed section is
@@ -87,24 +87,24 @@ std::vector<Billow> find_billows(const Section& section, const BoxFootprint& box
 
 /// The section at one height.
 struct SectionFolds {
-    double depth_m = 0;          ///< below the top face (m)
-    double height_m = 0;         ///< z of the section (m)
-    bool found = false;          ///< a section surrounds the box at this height
-    bool closed = false;         ///< ... and is a closed loop
-    double length_m = 0;         ///< its length (m)
-    std::vector<Billow> billows; ///< all corners
+    double depth_m = 0;           ///< below the top face (m)
+    double height_m = 0;          ///< z of the section (m)
+    bool found = false;           ///< a section surrounds the box at this height
+    bool closed = false;          ///< ... and is a closed loop
+    double length_m = 0;          ///< its length (m)
+    std::vector<Billow> billows;  ///< all corners
     /// Billows of corner c.
     std::vector<Billow> at_corner(int c) const;
 };
 
 /// The drape's folds and its shape measures.
 struct FoldAnalysis {
-    std::vector<SectionFolds> sections;   ///< one per FoldOptions::depths_m, in that order
-    Vec3 lowest_point = Vec3::Zero();     ///< lowest mesh vertex (m)
+    std::vector<SectionFolds> sections;  ///< one per FoldOptions::depths_m, in that order
+    Vec3 lowest_point = Vec3::Zero();    ///< lowest mesh vertex (m)
     /// Per side, +x, +y, -x, -y of the box frame: top_z minus the lowest z of the vertices
     /// in front of that side (outside the footprint, within the side's extent); 0 when none (m).
     std::array<double, 4> hanging_m{};
-    double projected_area_m2 = 0;         ///< area of the union of the faces projected on the xy plane (m^2)
+    double projected_area_m2 = 0;  ///< area of the union of the faces projected on the xy plane (m^2)
 };
 
 /// Sections the mesh at each depth below the box's top face, picks the section that surrounds

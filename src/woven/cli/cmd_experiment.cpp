@@ -93,8 +93,8 @@ struct Outcome {
 };
 
 /// Drapes `fabric` over `scene` (a copy is changed: seed, grid, threads) like `woven drape`.
-Outcome drape(const kes::FabricData& fabric, const std::string& fabric_name, std::uint64_t seed,
-              const ExperimentOptions& o, io::SceneSpec& scene)
+Outcome drape(const kes::FabricData& fabric, const std::string& fabric_name, std::uint64_t seed, const ExperimentOptions& o,
+              io::SceneSpec& scene)
 {
     io::SceneOverrides ov;
     ov.grid = o.grid;
@@ -165,14 +165,11 @@ std::string corner_cell(const std::vector<analysis::Billow>& b)
     return s + ")";
 }
 
-std::string provenance(const std::string& command)
-{
-    return std::string("Made by `") + command + "` (woven " + WOVEN_VERSION + ").";
-}
+std::string provenance(const std::string& command) { return std::string("Made by `") + command + "` (woven " + WOVEN_VERSION + ")."; }
 
 nlohmann::json outcome_json(const Outcome& d)
 {
-    nlohmann::json j{{"fabric", d.fabric}, {"seed", d.seed},   {"converged", d.converged},
+    nlohmann::json j{{"fabric", d.fabric}, {"seed", d.seed},     {"converged", d.converged},
                      {"steps", d.steps},   {"wall_s", d.wall_s}, {"energy_J", d.energy_J}};
     j["folds"] = d.folds ? folds_json(*d.folds) : nlohmann::json(nullptr);
     return j;
@@ -222,9 +219,9 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
     std::ostringstream md;
     md << "# The cube experiment: corner folds\n\n" << provenance(command) << "\n\n";
     md << "The paper's Sec. 6: 1 m x 1 m cloth, " << runs[0][0].grid.nu << " x " << runs[0][0].grid.nv
-       << " particles, over a 0.5 m cube; seeds 1.." << o.seeds
-       << ". Each cell: billows leaving the corner on the section " << fmt("%.2f", depths[0]) << " m below the top face, then on the one "
-       << fmt("%.2f", depths[1]) << " m below, with each billow's direction from the corner's diagonal (degrees, counter-clockwise seen from above). "
+       << " particles, over a 0.5 m cube; seeds 1.." << o.seeds << ". Each cell: billows leaving the corner on the section "
+       << fmt("%.2f", depths[0]) << " m below the top face, then on the one " << fmt("%.2f", depths[1])
+       << " m below, with each billow's direction from the corner's diagonal (degrees, counter-clockwise seen from above). "
        << "Corners: 0 (+x +y), 1 (-x +y), 2 (-x -y), 3 (+x -y); warp threads run along y, weft along x.\n\n";
     md << "| fabric | seed | converged | corner 0 | corner 1 | corner 2 | corner 3 |\n|---|---|---|---|---|---|---|\n";
     nlohmann::json all = nlohmann::json::array();
@@ -241,12 +238,13 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
             }
             md << "\n";
         }
-    md << "\n## How often each corner structure appears\n\nOver all seeds and the four corners, on the section "
-       << fmt("%.2f", depths[0]) << " m below the top. Only billows within " << fmt("%.0f", kCornerConeDeg)
+    md << "\n## How often each corner structure appears\n\nOver all seeds and the four corners, on the section " << fmt("%.2f", depths[0])
+       << " m below the top. Only billows within " << fmt("%.0f", kCornerConeDeg)
        << " degrees of the corner's diagonal count as leaving the corner (further round a billow stands in front of a side: "
        << "a wave of the side's panel); a single one counts as on the diagonal within " << fmt("%.0f", kDiagonalToleranceDeg)
        << " degrees of it:\n\n";
-    md << "| fabric | corners | single, on the diagonal | single, off the diagonal | two or more folds | none | mean angle of single billows (deg) | mean abs angle (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
+    md << "| fabric | corners | single, on the diagonal | single, off the diagonal | two or more folds | none | mean angle of single "
+          "billows (deg) | mean abs angle (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
     nlohmann::json stats = nlohmann::json::object();
     for (std::size_t f = 0; f < fabrics.size(); ++f) {
         std::map<Structure, int> count;
@@ -272,10 +270,9 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
         for (std::size_t k = 1; k < energies.size(); ++k)
             if (energies[k] - energies[k - 1] > 1e-9 * std::abs(energies[k])) ++distinct;
         auto pct = [&](Structure s) { return corners ? fmt("%.0f %%", 100.0 * count[s] / corners) : std::string("-"); };
-        md << "| " << o.fabrics[f] << " | " << corners << " | " << pct(Structure::SINGLE_DIAGONAL) << " | "
-           << pct(Structure::SINGLE_OFFSET) << " | " << pct(Structure::MULTIPLE) << " | " << pct(Structure::NONE) << " | "
-           << (singles ? fmt("%+.1f", sum / singles) : "-") << " | " << (singles ? fmt("%.1f", sum_abs / singles) : "-")
-           << " | " << distinct << " of " << energies.size() << " |\n";
+        md << "| " << o.fabrics[f] << " | " << corners << " | " << pct(Structure::SINGLE_DIAGONAL) << " | " << pct(Structure::SINGLE_OFFSET)
+           << " | " << pct(Structure::MULTIPLE) << " | " << pct(Structure::NONE) << " | " << (singles ? fmt("%+.1f", sum / singles) : "-")
+           << " | " << (singles ? fmt("%.1f", sum_abs / singles) : "-") << " | " << distinct << " of " << energies.size() << " |\n";
         stats[o.fabrics[f]] = {{"corners", corners},
                                {"single_diagonal", count[Structure::SINGLE_DIAGONAL]},
                                {"single_offset", count[Structure::SINGLE_OFFSET]},
@@ -286,8 +283,12 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
     md << "\n\"distinct drapes\": seeds whose final energies differ (by more than 1e-9 relative); with a "
           "symmetric start and no perturbation every seed gives the same drape.\n\n![cube figure](cube_figure.png)\n";
     io::write_file_atomic(join_path(o.out, "cube_folds.md"), md.str());
-    nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"runs", all}, {"statistics", stats},
-                     {"diagonal_tolerance_deg", kDiagonalToleranceDeg}, {"corner_cone_deg", kCornerConeDeg}};
+    nlohmann::json j{{"command", command},
+                     {"version", WOVEN_VERSION},
+                     {"runs", all},
+                     {"statistics", stats},
+                     {"diagonal_tolerance_deg", kDiagonalToleranceDeg},
+                     {"corner_cone_deg", kCornerConeDeg}};
     io::write_file_atomic(join_path(o.out, "cube_results.json"), j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "cube_figure.png") << ", cube_folds.md, cube_results.json\n";
     return kExitOk;
@@ -326,8 +327,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
 {
     int nr = 0, nc = 0;
     char x = 0, extra = 0;
-    if (std::sscanf(o.map_grid.c_str(), "%d%c%d%c", &nr, &x, &nc, &extra) != 3 || x != 'x' || nr < 2 || nc < 2 || nr > 9 ||
-        nc > 9)
+    if (std::sscanf(o.map_grid.c_str(), "%d%c%d%c", &nr, &x, &nc, &extra) != 3 || x != 'x' || nr < 2 || nc < 2 || nr > 9 || nc > 9)
         throw InputError("command line", "--map-grid", "expected RxL: R ratios by L bending lengths, each 2 .. 9");
     std::vector<std::string> warnings;
     const kes::FabricData cotton = io::find_fabric("cotton", &warnings);
@@ -365,12 +365,12 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     }
     auto reused_cell = [&](double r, double c) -> const nlohmann::json& {
         for (const auto& jc : reused["cells"])
-            if (jc.contains("ratio_warp_weft") && jc.contains("bending_length_cm") && jc["ratio_warp_weft"].is_number() &&
-                jc["bending_length_cm"].is_number() && std::abs(jc["ratio_warp_weft"].get<double>() - r) < 1e-9 * r &&
-                std::abs(jc["bending_length_cm"].get<double>() - c) < 1e-9 * c)
+            if (jc.contains("ratio_warp_weft") && jc.contains("bending_length_cm") && jc["ratio_warp_weft"].is_number()
+                && jc["bending_length_cm"].is_number() && std::abs(jc["ratio_warp_weft"].get<double>() - r) < 1e-9 * r
+                && std::abs(jc["bending_length_cm"].get<double>() - c) < 1e-9 * c)
                 return jc;
-        throw InputError(*o.reuse, "cells", "no drape for ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) +
-                                                " cm (use the same --map-grid)");
+        throw InputError(*o.reuse, "cells",
+                         "no drape for ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm (use the same --map-grid)");
     };
     for (double r : ratios)
         for (double c : lengths) {
@@ -447,13 +447,11 @@ int run_map(const ExperimentOptions& o, const std::string& command)
         const int ri = static_cast<int>(k) / nc, ci = static_cast<int>(k) % nc;
         const int x0 = left + ci * cw, y0 = top + (nr - 1 - ri) * ch;  // ratio grows upwards
         render::fill_rect(img, x0 + 2, y0 + 2, x0 + cw - 2, y0 + ch - 2, colour.at(c.majority));
-        std::string t = fmt("billows %.2f", c.mean_billows) + "\n" +
-                        (c.mean_abs_angle > 0 ? fmt("%.0f deg off", c.mean_abs_angle) : std::string("")) +
-                        (c.converged ? "" : "\nnot converged");
+        std::string t = fmt("billows %.2f", c.mean_billows) + "\n"
+            + (c.mean_abs_angle > 0 ? fmt("%.0f deg off", c.mean_abs_angle) : std::string("")) + (c.converged ? "" : "\nnot converged");
         render::draw_label(img, t, x0 + 10, y0 + 10, 2);
     }
-    for (int ri = 0; ri < nr; ++ri)
-        render::draw_label(img, fmt("%.3g", ratios[ri]), 20, top + (nr - 1 - ri) * ch + ch / 2 - 7, 2);
+    for (int ri = 0; ri < nr; ++ri) render::draw_label(img, fmt("%.3g", ratios[ri]), 20, top + (nr - 1 - ri) * ch + ch / 2 - 7, 2);
     for (int ci = 0; ci < nc; ++ci)
         render::draw_label(img, fmt("%.2g cm", lengths[ci]), left + ci * cw + cw / 2 - 25, top + nr * ch + 8, 2);
     render::draw_label(img, "warp/weft", 10, top - 25, 2);
@@ -465,8 +463,8 @@ int run_map(const ExperimentOptions& o, const std::string& command)
         const double fy = (std::log2(ratio) - std::log2(ratios.front())) / (std::log2(ratios.back()) - std::log2(ratios.front()));
         const double px = left + cw / 2.0 + fx * cw * (nc - 1), py = top + ch / 2.0 + (1 - fy) * ch * (nr - 1);
         const std::string name = o.fabrics[f];
-        render::fill_rect(img, static_cast<int>(px) + 8, static_cast<int>(py) - 9,
-                          static_cast<int>(px) + 14 + render::label_width(name, 2), static_cast<int>(py) + 9, Vec3(1, 1, 1), 0.85);
+        render::fill_rect(img, static_cast<int>(px) + 8, static_cast<int>(py) - 9, static_cast<int>(px) + 14 + render::label_width(name, 2),
+                          static_cast<int>(py) + 9, Vec3(1, 1, 1), 0.85);
         render::fill_disc(img, px, py, 7, Vec3(0, 0, 0));
         render::fill_disc(img, px, py, 4.5, render::fabric_color(paper[f].color).array().pow(1 / 2.2).matrix());
         render::draw_label(img, name, static_cast<int>(px) + 11, static_cast<int>(py) - 6, 2);
@@ -490,17 +488,19 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     if (o.reuse)
         md << "The drapes are those of `" << reused.value("command", std::string("?")) << "` (woven "
            << reused.value("version", std::string("?")) << "), read back from its corner_map.json and analysed again.\n\n";
-    md
-       << "Synthetic fabrics with the cotton's W (" << cv.W << " mg/cm2) and shear (G " << cv.G
+    md << "Synthetic fabrics with the cotton's W (" << cv.W << " mg/cm2) and shear (G " << cv.G
        << " gf/(cm.deg)), bending from the bending length c and the warp/weft ratio; one drape each (seed 1) over the cube, "
        << "section 0.10 m below the top. Cell: the structure most corners show, the mean count per corner of billows leaving it (within "
-       << fmt("%.0f", kCornerConeDeg) << " degrees of the diagonal), the mean |angle| of single ones from the diagonal; the last column lists every billow in each corner's quadrant.\n\n";
-    md << "| warp/weft | c (cm) | B warp | B weft | structure | billows/corner | mean abs angle (deg) | corners (count (angles)) |\n|---|---|---|---|---|---|---|---|\n";
+       << fmt("%.0f", kCornerConeDeg)
+       << " degrees of the diagonal), the mean |angle| of single ones from the diagonal; the last column lists every billow in each "
+          "corner's quadrant.\n\n";
+    md << "| warp/weft | c (cm) | B warp | B weft | structure | billows/corner | mean abs angle (deg) | corners (count (angles)) "
+          "|\n|---|---|---|---|---|---|---|---|\n";
     for (const Cell& c : cells) {
         const double B = std::pow(c.length, 3) * cv.W * 1e-3;
         md << "| " << fmt("%.3g", c.ratio) << " | " << fmt("%.2g", c.length) << " | " << fmt("%.3g", B * std::sqrt(c.ratio)) << " | "
-           << fmt("%.3g", B / std::sqrt(c.ratio)) << " | " << structure_name(c.majority) << (c.converged ? "" : " (not converged)")
-           << " | " << fmt("%.2f", c.mean_billows) << " | " << fmt("%.0f", c.mean_abs_angle) << " |";
+           << fmt("%.3g", B / std::sqrt(c.ratio)) << " | " << structure_name(c.majority) << (c.converged ? "" : " (not converged)") << " | "
+           << fmt("%.2f", c.mean_billows) << " | " << fmt("%.0f", c.mean_abs_angle) << " |";
         for (const auto& b : c.corners) md << " " << corner_cell(b);
         md << " |\n";
     }
@@ -512,7 +512,8 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     md << "\n![corner map](corner_map.png)\n";
     io::write_file_atomic(join_path(o.out, "corner_map.md"), md.str());
     nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"cells", jcells}};
-    if (o.reuse) j["drapes_from"] = {{"file", *o.reuse}, {"command", reused.value("command", "")}, {"version", reused.value("version", "")}};
+    if (o.reuse)
+        j["drapes_from"] = {{"file", *o.reuse}, {"command", reused.value("command", "")}, {"version", reused.value("version", "")}};
     io::write_file_atomic(join_path(o.out, "corner_map.json"), j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "corner_map.png") << ", corner_map.md, corner_map.json\n";
     return kExitOk;
@@ -528,7 +529,8 @@ int run_figure1(const ExperimentOptions& o, const std::string& command)
     print_warnings(warnings);
     make_output_dir(o.out);
     std::ostringstream md;
-    md << "# Fig. 1: a chair and an end table\n\n" << provenance(command) << "\n\n| scene | converged | steps | wall (s) |\n|---|---|---|---|\n";
+    md << "# Fig. 1: a chair and an end table\n\n"
+       << provenance(command) << "\n\n| scene | converged | steps | wall (s) |\n|---|---|---|---|\n";
     nlohmann::json runs = nlohmann::json::array();
     for (const std::string name : {"chair", "table"}) {
         io::SceneSpec scene = io::find_scene(name);
@@ -564,7 +566,9 @@ void add_experiment_command(CLI::App& app, int& exit_code)
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")->capture_default_str()->check(CLI::Range(1, 100));
     sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (default: the scene's)")->check(CLI::Range(3, 401));
-    sub->add_option("--threads", o->threads, "Worker threads per drape (0: all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
+    sub->add_option("--threads", o->threads, "Worker threads per drape (0: all cores)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     sub->add_option("--map-grid", o->map_grid, "map: RxL, R ratios by L bending lengths")->capture_default_str();
     sub->add_option("--reuse", o->reuse, "map: analyse the drapes of an earlier run again (its corner_map.json), without draping");
     sub->callback([o, &exit_code, sub] {

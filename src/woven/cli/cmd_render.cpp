@@ -37,8 +37,7 @@ std::pair<int, int> parse_size(const std::string& s)
 {
     int w = 0, h = 0;
     char x = 0, extra = 0;
-    if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
-        w > 16384 || h > 16384)
+    if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 || w > 16384 || h > 16384)
         throw InputError("command line", "--size", "expected WxH, each 1 .. 16384 pixels (e.g. 1024x768)");
     return {w, h};
 }

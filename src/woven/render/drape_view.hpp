@@ -15,9 +15,9 @@ namespace woven::render {
 
 /// The cloth as drawn: a triangle mesh with uv in particle spacings (thread units).
 struct ClothSurface {
-    geometry::TriangleMesh mesh;        ///< m
-    std::vector<Eigen::Vector2d> uv;    ///< one per vertex, or empty (no thread lines)
-    double spacing_m = 0;               ///< particle spacing (m): how far obstacles may poke through
+    geometry::TriangleMesh mesh;      ///< m
+    std::vector<Eigen::Vector2d> uv;  ///< one per vertex, or empty (no thread lines)
+    double spacing_m = 0;             ///< particle spacing (m): how far obstacles may poke through
 };
 
 /// The particle grid (nu * nv positions, index i + nu * j, m) refined `refine` times per cell by
@@ -48,9 +48,9 @@ std::string view_name(View view);
 /// What to draw.
 struct DrapeScene {
     ClothSurface cloth;
-    Vec3 cloth_color{0.70, 0.28, 0.16};            ///< linear RGB albedo
+    Vec3 cloth_color{0.70, 0.28, 0.16};                ///< linear RGB albedo
     const geometry::ObstacleSet* obstacles = nullptr;  ///< may be null
-    std::optional<Camera> scene_camera;            ///< the scene's camera, if it has one
+    std::optional<Camera> scene_camera;                ///< the scene's camera, if it has one
 };
 
 /// The camera for a view: its direction, the vertical field of view `fov_deg`, framed tightly

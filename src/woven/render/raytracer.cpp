@@ -20,13 +20,13 @@ namespace woven::render {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kCreaseDeg = 40;           // solids: faces meeting sharper than this keep a crease
-constexpr double kFloorFadeStart = 1.6;     // floor fades into the background from this many subject radii...
-constexpr double kFloorFadeEnd = 4.0;       // ... to this many
-constexpr double kClothBackShade = 0.8;     // the back (inside) of the cloth is this much darker
-constexpr double kWarpLine = 0.22;          // darkening on a warp thread line (constant u)
-constexpr double kWeftLine = 0.12;          // darkening on a weft thread line (constant v)
-constexpr double kLineWidth = 0.14;         // thread line width, in particle spacings
+constexpr double kCreaseDeg = 40;        // solids: faces meeting sharper than this keep a crease
+constexpr double kFloorFadeStart = 1.6;  // floor fades into the background from this many subject radii...
+constexpr double kFloorFadeEnd = 4.0;    // ... to this many
+constexpr double kClothBackShade = 0.8;  // the back (inside) of the cloth is this much darker
+constexpr double kWarpLine = 0.22;       // darkening on a warp thread line (constant u)
+constexpr double kWeftLine = 0.12;       // darkening on a weft thread line (constant v)
+constexpr double kLineWidth = 0.14;      // thread line width, in particle spacings
 
 Vec3 any_perpendicular(const Vec3& v)
 {
@@ -48,8 +48,8 @@ struct Prepared {
     std::vector<Vec3> face_normals;                   // per kept face (unit, zero if degenerate)
     std::vector<std::array<Vec3, 3>> corner_normals;  // per kept face
     bool has_uv = false;
-    double threads_per_metre = 0;                     // uv length per world length
-    double longest_edge = 0;                          // m
+    double threads_per_metre = 0;  // uv length per world length
+    double longest_edge = 0;       // m
 };
 
 Prepared prepare(const RenderMesh& rm, std::size_t index)
@@ -61,14 +61,12 @@ Prepared prepare(const RenderMesh& rm, std::size_t index)
     const int nv = static_cast<int>(V.size());
     const std::string name = "mesh " + std::to_string(index);
     if (!rm.uv.empty() && rm.uv.size() != V.size()) throw InputError("render", name, "one uv per vertex, or none");
-    if (!rm.normals.empty() && rm.normals.size() != V.size())
-        throw InputError("render", name, "one normal per vertex, or none");
+    if (!rm.normals.empty() && rm.normals.size() != V.size()) throw InputError("render", name, "one normal per vertex, or none");
     std::vector<Vec3> area_normals;  // unnormalised, |n| = 2 * area
     for (std::size_t f = 0; f < F.size(); ++f) {
         const Eigen::Vector3i& t = F[f];
         for (int k = 0; k < 3; ++k)
-            if (t[k] < 0 || t[k] >= nv)
-                throw InputError("render", name, "face " + std::to_string(f) + " has a vertex index out of range");
+            if (t[k] < 0 || t[k] >= nv) throw InputError("render", name, "face " + std::to_string(f) + " has a vertex index out of range");
         if (!V[t[0]].allFinite() || !V[t[1]].allFinite() || !V[t[2]].allFinite()) continue;
         p.faces.push_back(static_cast<int>(f));
         const Vec3 n = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]);
@@ -176,8 +174,7 @@ using SceneHandle = std::unique_ptr<std::remove_pointer_t<RTCScene>, SceneDelete
 void check(RTCDevice device, const char* what)
 {
     const RTCError e = rtcGetDeviceError(device);
-    if (e != RTC_ERROR_NONE)
-        throw RuntimeError(std::string("render: Embree error ") + std::to_string(static_cast<int>(e)) + " in " + what);
+    if (e != RTC_ERROR_NONE) throw RuntimeError(std::string("render: Embree error ") + std::to_string(static_cast<int>(e)) + " in " + what);
 }
 
 std::uint8_t to_srgb8(double linear)
@@ -197,8 +194,8 @@ void attach(RTCDevice device, RTCScene scene, const RenderMesh& rm, const Prepar
     const auto& V = rm.mesh.vertices;
     const auto& F = rm.mesh.faces;
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), V.size()));
+    auto* vb =
+        static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), V.size()));
     auto* ib = static_cast<unsigned*>(
         rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), p.faces.size()));
     check(device, "rtcSetNewGeometryBuffer");
@@ -318,8 +315,7 @@ Camera frame_box(const Vec3& lo, const Vec3& hi, double azimuth_deg, double elev
     return cam;
 }
 
-Camera fit_camera(const std::vector<Vec3>& points, const Vec3& forward_in, const Vec3& up_in, double fov_deg,
-                  double aspect, double fill)
+Camera fit_camera(const std::vector<Vec3>& points, const Vec3& forward_in, const Vec3& up_in, double fov_deg, double aspect, double fill)
 {
     Camera cam;
     cam.fov_deg = fov_deg;
@@ -373,8 +369,7 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
 {
     const int W = options.width, H = options.height;
     if (W < 1 || W > 16384 || H < 1 || H > 16384) throw InputError("render", "size", "width and height in 1..16384 pixels");
-    if (!(camera.fov_deg > 0 && camera.fov_deg < 179))
-        throw InputError("render", "camera.fov_deg", "a field of view in (0, 179) degrees");
+    if (!(camera.fov_deg > 0 && camera.fov_deg < 179)) throw InputError("render", "camera.fov_deg", "a field of view in (0, 179) degrees");
     const Vec3 forward_raw = camera.target - camera.eye;
     if (!camera.eye.allFinite() || !forward_raw.allFinite() || forward_raw.norm() <= 0)
         throw InputError("render", "camera", "finite eye and target at distinct points");
@@ -431,9 +426,7 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
     const Vec3 subject_centre = have_bounds ? Vec3(0.5 * (slo + shi)) : Vec3::Zero();
     const double subject_radius = have_bounds ? std::max(0.5 * (shi - slo).norm(), 1e-6) : 1.0;
     const double ao_distance = options.ao_distance_m > 0 ? options.ao_distance_m : 0.2 * subject_radius;
-    const double priority = options.cloth_priority_m > 0 ? options.cloth_priority_m
-                            : options.cloth_priority_m == 0 ? cloth_edge
-                                                            : 0.0;
+    const double priority = options.cloth_priority_m > 0 ? options.cloth_priority_m : options.cloth_priority_m == 0 ? cloth_edge : 0.0;
 
     DeviceHandle device(rtcNewDevice(nullptr));
     if (!device) throw RuntimeError("render: cannot create an Embree device");
@@ -540,7 +533,7 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
         Vec3 ns = b0 * vn[0] + b1 * vn[1] + b2 * vn[2];
         ns = ns.squaredNorm() > 1e-24 ? Vec3(ns.normalized()) : ng;
         if (ns.dot(dir) > 0) ns = (ns - 1.01 * ns.dot(dir) * dir).normalized();  // keep it visible
-        const bool back = cloth && side < 0;  // the underside (inside of a fold) of the cloth
+        const bool back = cloth && side < 0;                                     // the underside (inside of a fold) of the cloth
 
         // Albedo: the cloth's thread lines (box-filtered over the sample's footprint).
         Vec3 albedo = covered_by ? covered_by->color : rm.color;
@@ -576,8 +569,8 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
         // through it between particles); everything else does.
         auto blocked = [&](const Vec3& d, double tfar) {
             if (cloth && priority > 0)
-                return occluded(sc.cloth.get(), org, d, epsilon, tfar) ||
-                       (priority < tfar && occluded(sc.solid.get(), org, d, priority, tfar));
+                return occluded(sc.cloth.get(), org, d, epsilon, tfar)
+                    || (priority < tfar && occluded(sc.solid.get(), org, d, priority, tfar));
             return occluded(sc.all.get(), org, d, epsilon, tfar);
         };
 
