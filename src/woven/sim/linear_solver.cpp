@@ -137,43 +137,6 @@ void NewtonLinearSolver::solve_exact(const Eigen::SparseMatrix<double>& A, const
     truncated_cg(A, rhs, d, tolerance, 4 * options_.max_cg_iterations);
 }
 
-NewtonLinearSolver::CgEnd NewtonLinearSolver::truncated_cg(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& rhs, Eigen::VectorXd& d,
-                                                           double tolerance, int max_iterations)
-{
-    const double target = tolerance * rhs.norm();
-    d.setZero(rhs.size());
-    Eigen::VectorXd r = rhs, z = factor_->llt.solve(r), p = z, Ap(rhs.size());
-    double rz = r.dot(z);
-    for (int k = 0; k < max_iterations; ++k) {
-        if (r.norm() <= target) return CgEnd::CONVERGED;
-        Ap.noalias() = A * p;
-        const double pAp = p.dot(Ap);
-        if (!(pAp > 0)) {
-            if (k == 0) d = z;  // P^-1 rhs: the projected Newton step
-            return CgEnd::NEGATIVE_CURVATURE;
-        }
-        const double a = rz / pAp;
-        d += a * p;
-        r -= a * Ap;
-        ++cg_iterations_;
-        z = factor_->llt.solve(r);
-        const double rz_next = r.dot(z);
-        p = z + (rz_next / rz) * p;
-        rz = rz_next;
-    }
-    return r.norm() <= target ? CgEnd::CONVERGED : CgEnd::LIMIT;
-}
-
-void NewtonLinearSolver::solve_exact(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& P, const Eigen::VectorXd& rhs,
-                                     Eigen::VectorXd& d, double tolerance)
-{
-    const SerialOpenMP serial;
-    if (factor_->analysed && truncated_cg(A, rhs, d, tolerance, options_.max_cg_iterations) != CgEnd::LIMIT) return;
-    factorize(P);
-    // With a fresh factor the last iterate is kept whatever the end: a descent direction.
-    truncated_cg(A, rhs, d, tolerance, 4 * options_.max_cg_iterations);
-}
-
 void NewtonLinearSolver::solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)
 {
     const SerialOpenMP serial;
