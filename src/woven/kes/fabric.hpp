@@ -57,11 +57,8 @@ struct FabricData {
 namespace instrument {
 inline constexpr double kBendingMaxCurvature = 2.5;  ///< 1/cm
 inline constexpr double kBendingSlopeFrom = 0.5, kBendingSlopeTo = 1.5;  ///< B window, 1/cm
-inline constexpr double kBendingHysteresisAt = 1.0;  ///< 2HB at, 1/cm
 inline constexpr double kShearMaxAngle = 8.0;  ///< degrees
 inline constexpr double kShearSlopeFrom = 0.5, kShearSlopeTo = 5.0;  ///< G window, degrees
-inline constexpr double kShearSampleLength = 20.0;  ///< cm
-inline constexpr double kShearSampleWidth = 5.0;    ///< cm (the paper's l in Eq. 15)
 }  // namespace instrument
 
 /// Synthesises a first-stage KES-FB2 loading curve from B and 2HB (documented rule,
