@@ -226,7 +226,7 @@ std::vector<Peak> periodic_peaks(const std::vector<double>& values, double min_p
                         const double den = ym - 2 * y0 + yp;
                         if (den < 0) idx += 0.5 * (ym - yp) / den;
                     }
-                    idx = std::fmod(idx + m, static_cast<double>(n));
+                    idx = std::fmod(idx + m + n, static_cast<double>(n));  // in [0, n): the parabola may step below 0
                     peaks.push_back({idx, top, prominence});
                 }
             }

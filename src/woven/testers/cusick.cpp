@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <memory>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -37,6 +38,8 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
         throw InputError(kSource, "spacing_m",
             "expected a positive spacing of at most a half of the overhang (" + num(0.5 * (R - rd)) + " m) and an eighth of the specimen");
     if (std::pow(2 * R / s, 2) > kMaxParticles) throw InputError(kSource, "spacing_m", "expected a spacing above " + num(2 * R / std::sqrt(kMaxParticles)) + " m");
+    if (!std::isfinite(o.perturbation_m) || o.perturbation_m < 0 || o.perturbation_m >= 0.25 * (R - rd))
+        throw InputError(kSource, "perturbation_m", "expected 0 or more, below a quarter of the overhang");
     if (!(o.disc_thickness_m > 0) || !(o.pedestal_radius_m > 0) || !(o.pedestal_radius_m <= rd))
         throw InputError(kSource, "disc_thickness_m", "expected a positive disc thickness and a pedestal no wider than the disc");
 
@@ -57,16 +60,25 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
 
     const double gap = o.start_gap_m > 0 ? o.start_gap_m : 2 * o.solver.contact_distance;
     c.initial = model::flat_grid(c.grid, Vec3(0, 0, c.disc_top_z + gap));
+    std::mt19937_64 rng(o.solver.seed);
     for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-            if (c.cut.active[c.grid.index(i, j)] && model::rest_uv(c.grid, i, j).norm() <= rd) c.clamped.push_back(c.grid.index(i, j));
+        for (int i = 0; i < n; ++i) {
+            const int p = c.grid.index(i, j);
+            if (!c.cut.active[p]) continue;
+            if (model::rest_uv(c.grid, i, j).norm() <= rd) {
+                c.clamped.push_back(p);
+            } else if (o.perturbation_m > 0) {
+                const double u = static_cast<double>(rng() >> 11) * 0x1p-53;  // uniform in [0, 1), portable
+                c.initial[p].z() += o.perturbation_m * (2 * u - 1);
+            }
+        }
     return c;
 }
 
 CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress)
 {
     const CusickSetup setup = make_cusick_setup(options);
-    const model::ClothModel model = model::make_cloth_model(fabric, setup.grid, options.model, setup.cut.active);
+    const model::ClothModel model = model::make_cloth_model(fabric, setup.grid, options.model, setup.cut.active, setup.cut.area);
     sim::Problem problem;
     problem.model = &model;
     problem.obstacles = &setup.obstacles;

@@ -41,6 +41,11 @@ struct CusickOptions {
     /// Height of the flat start above the support disc's top (m); 0: twice the solver's contact
     /// distance.
     double start_gap_m = 0;
+    /// Largest random vertical offset of each free particle in the flat start (m): real
+    /// specimens never lie perfectly flat, and a perfectly flat start would drape with the
+    /// square grid's symmetry. Drawn uniformly in [-a, a] from solver.seed (mt19937_64, the
+    /// same on every platform); 0: none.
+    double perturbation_m = 0.001;
     model::ModelOptions model;
     sim::SolverOptions solver;  ///< its seed and perturbation make the run-to-run variation
     analysis::DrapeShadowOptions shadow;
@@ -53,11 +58,11 @@ struct CusickSetup {
     model::ClothCut cut;               ///< the particles kept, their areas
     std::vector<int> clamped;          ///< kept particles within the disc's radius (pinned)
     geometry::ObstacleSet obstacles;   ///< floor, pedestal, support disc
-    Positions initial;                 ///< flat, start_gap_m above the disc, one per grid particle
+    Positions initial;                 ///< flat, start_gap_m above the disc, perturbed, one per grid particle
     double disc_top_z = 0;             ///< m
 };
 
-/// Builds the instrument. Throws InputError("command line", "--specimen-cm" / "--disc-cm" /
+/// Builds the instrument (the perturbation drawn from options.solver.seed). Throws InputError("command line", "--specimen-cm" / "--disc-cm" /
 /// "--spacing-cm", ...) unless 0 < disc < specimen and the spacing resolves the overhang (at
 /// least 2 particles across it and 8 across the specimen).
 CusickSetup make_cusick_setup(const CusickOptions& options);

@@ -1,0 +1,314 @@
+// woven cusick FABRIC: the Cusick drape test (BS 5058, ISO 9073-9) on a simulated specimen:
+// drape coefficient, nodes, the shadow picture, a render and the mesh (testers/cusick.hpp).
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <stb/stb_easy_font.h>
+
+#include "woven/analysis/drape_shadow.hpp"
+#include "woven/cli/args.hpp"
+#include "woven/cli/commands.hpp"
+#include "woven/cli/progress.hpp"
+#include "woven/common/error.hpp"
+#include "woven/io/fabric_file.hpp"
+#include "woven/io/output.hpp"
+#include "woven/render/drape_view.hpp"
+#include "woven/render/image.hpp"
+#include "woven/testers/cusick.hpp"
+
+namespace woven::cli {
+
+namespace {
+
+struct CusickCommandOptions {
+    std::string fabric;
+    std::string specimen_cm = "30";
+    std::string disc_cm = "18";
+    std::optional<std::string> spacing_cm;
+    std::string seeds = "1";
+    std::string seed = "1";
+    std::optional<std::string> threads;
+    std::optional<std::string> max_steps;
+    std::optional<std::string> out;
+    bool no_render = false;
+};
+
+constexpr int kShadowPixels = 800;  ///< shadow.png is square, this many pixels a side
+
+/// The cut specimen as OBJ: positions (m), texture coordinates (rest position in particle
+/// spacings: u along the weft, v along the warp), triangles.
+std::string surface_obj(const geometry::TriangleMesh& m, const std::vector<Vec2>& uv, const std::string& fabric, double spacing)
+{
+    std::ostringstream o;
+    o << std::setprecision(9);
+    o << "# woven cusick: draped specimen, fabric " << fabric << ", spacing " << spacing << " m; units m; "
+      << "vt = rest position in particle spacings (u weft +x, v warp +y)\n";
+    for (const Vec3& v : m.vertices) o << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
+    for (const Vec2& t : uv) o << "vt " << t.x() << " " << t.y() << "\n";
+    for (const auto& f : m.faces) o << "f " << f[0] + 1 << "/" << f[0] + 1 << " " << f[1] + 1 << "/" << f[1] + 1 << " " << f[2] + 1 << "/" << f[2] + 1 << "\n";
+    return o.str();
+}
+
+struct Canvas {
+    render::Image img;
+    void set(int x, int y, std::uint8_t r, std::uint8_t g, std::uint8_t b)
+    {
+        if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
+        std::uint8_t* p = &img.rgb[3 * (static_cast<size_t>(y) * img.width + x)];
+        p[0] = r;
+        p[1] = g;
+        p[2] = b;
+    }
+    void text(const std::string& s, int x, int y, std::uint8_t r, std::uint8_t g, std::uint8_t b)
+    {
+        std::vector<char> vbuf(s.size() * 270 + 64);
+        std::string buf = s;
+        const int quads = stb_easy_font_print(0, 0, buf.data(), nullptr, vbuf.data(), static_cast<int>(vbuf.size()));
+        const float* v = reinterpret_cast<const float*>(vbuf.data());
+        for (int q = 0; q < quads; ++q) {  // 4 vertices of 16 bytes (x, y, z, colour) per quad
+            const float* a = v + q * 16;
+            const int x0 = static_cast<int>(a[0]) * 2, y0 = static_cast<int>(a[1]) * 2, x1 = static_cast<int>(a[8]) * 2, y1 = static_cast<int>(a[9]) * 2;
+            for (int yy = y0; yy < y1; ++yy)
+                for (int xx = x0; xx < x1; ++xx) set(x + xx, y + yy, r, g, b);
+        }
+    }
+};
+
+/// shadow.png: the shadow in black on white, seen from above with the warp (+y) up and the
+/// weft (+x) to the right; the disc (blue) and the flat specimen (grey) circles, as on the
+/// instrument's paper ring; the warp and weft axes and a red tick at each node.
+render::Image shadow_picture(const geometry::TriangleMesh& surface, double specimen_radius, double disc_radius, const analysis::Nodes& nodes,
+    double dc, int nodes_count)
+{
+    const double half = 1.08 * specimen_radius;
+    const double px = 2 * half / kShadowPixels;
+    const analysis::ShadowRaster r = analysis::rasterize_shadow(surface, Vec2(-half, -half), px, kShadowPixels, kShadowPixels);
+    Canvas c;
+    c.img.width = c.img.height = kShadowPixels;
+    c.img.rgb.assign(3 * static_cast<size_t>(kShadowPixels) * kShadowPixels, 255);
+    for (int row = 0; row < kShadowPixels; ++row)
+        for (int col = 0; col < kShadowPixels; ++col)
+            if (r.covered[col + static_cast<size_t>(kShadowPixels) * row]) c.set(col, kShadowPixels - 1 - row, 0, 0, 0);
+    const auto to_px = [&](double x, double y) { return std::pair<int, int>{static_cast<int>((x + half) / px), kShadowPixels - 1 - static_cast<int>((y + half) / px)}; };
+    const auto circle = [&](double rad, std::uint8_t R, std::uint8_t G, std::uint8_t B) {
+        const int n = static_cast<int>(2 * M_PI * rad / px * 2);
+        for (int k = 0; k < n; ++k) {
+            const double a = 2 * M_PI * k / n;
+            const auto [x, y] = to_px(rad * std::sin(a), rad * std::cos(a));
+            for (int d = 0; d < 2; ++d) c.set(x + d, y, R, G, B);
+        }
+    };
+    circle(specimen_radius, 150, 150, 150);
+    circle(disc_radius, 40, 90, 220);
+    // Axes: warp up (+y), weft right (+x), dotted grey through the centre.
+    for (int k = 0; k < kShadowPixels; k += 4) {
+        c.set(kShadowPixels / 2, k, 170, 170, 170);
+        c.set(k, kShadowPixels / 2, 170, 170, 170);
+    }
+    c.text("warp (0 deg)", kShadowPixels / 2 + 6, 4, 200, 0, 0);
+    c.text("weft (90 deg)", kShadowPixels - 140, kShadowPixels / 2 + 6, 200, 0, 0);
+    for (int k = 0; k < nodes.count(); ++k) {
+        const double a = nodes.angle_deg[k] * M_PI / 180;
+        for (double t = nodes.radius_m[k]; t < specimen_radius * 1.06; t += 0.5 * px) {
+            const auto [x, y] = to_px(t * std::sin(a), t * std::cos(a));
+            c.set(x, y, 220, 0, 0);
+            c.set(x + 1, y, 220, 0, 0);
+        }
+    }
+    std::ostringstream label;
+    label << "DC " << std::fixed << std::setprecision(1) << dc << " %, " << nodes_count << " nodes";
+    c.text(label.str(), 6, kShadowPixels - 24, 0, 0, 0);
+    return c.img;
+}
+
+/// drape.png: the draped specimen over the instrument, thread lines showing warp and weft.
+render::Image drape_picture(const testers::CusickResult& r, const testers::CusickSetup& setup, const kes::FabricData& fabric)
+{
+    render::DrapeScene ds;
+    ds.cloth.mesh = r.surface;
+    ds.cloth.uv.assign(r.surface_uv.begin(), r.surface_uv.end());
+    ds.cloth.spacing_m = r.spacing_m;
+    ds.cloth_color = render::fabric_color(fabric.color);
+    ds.obstacles = &setup.obstacles;
+    render::RenderOptions ro;
+    ro.width = 1024;
+    ro.height = 768;
+    return render::render_drape(ds, render::view_camera(ds, render::View::CORNER, double(ro.width) / ro.height), ro);
+}
+
+std::string angles_text(const std::vector<double>& a)
+{
+    std::ostringstream o;
+    o << std::fixed << std::setprecision(0);
+    for (size_t k = 0; k < a.size(); ++k) o << (k ? " " : "") << a[k];
+    return o.str();
+}
+
+int run_cusick(const CusickCommandOptions& o)
+{
+    // 1. Validate everything before writing anything.
+    testers::CusickOptions co;
+    co.specimen_diameter_m = 0.01 * parse_positive(o.specimen_cm, "--specimen-cm", 200);
+    co.disc_diameter_m = 0.01 * parse_positive(o.disc_cm, "--disc-cm", 200);
+    if (o.spacing_cm) co.spacing_m = 0.01 * parse_positive(*o.spacing_cm, "--spacing-cm", 10);
+    const int runs = static_cast<int>(parse_integer(o.seeds, "--seeds", 1, 1000));
+    const std::uint64_t seed0 = parse_seed(o.seed, "--seed");
+    if (auto t = parse_integer(o.threads, "--threads", 0, 4096)) co.solver.threads = static_cast<int>(*t);
+    if (auto m = parse_integer(o.max_steps, "--max-steps", 0, 1000000)) co.solver.max_steps = static_cast<int>(*m);
+    std::vector<std::string> warnings;
+    const kes::FabricData fabric = io::find_fabric(o.fabric, &warnings);
+    print_warnings(warnings);
+    const std::string name = fabric.name.empty() ? o.fabric : fabric.name;
+    const std::string out_dir = o.out ? parse_path(*o.out, "--out") : join_path("out", "cusick-" + safe_file_name(name));
+    testers::CusickSetup setup;
+    try {
+        setup = testers::make_cusick_setup(co);
+    } catch (const InputError& e) {
+        const std::string f = e.field();
+        const std::string opt = f == "specimen_diameter_m" ? "--specimen-cm" : f == "disc_diameter_m" ? "--disc-cm" : "--spacing-cm";
+        const std::string what = e.what();
+        throw InputError("command line", opt, what.substr(what.find(f + ": ") + f.size() + 2));
+    }
+    make_output_dir(out_dir);
+    install_interrupt_handler();
+
+    // 2. The runs: seeds seed0, seed0 + 1, ...
+    const double R = 0.5 * co.specimen_diameter_m, rd = 0.5 * co.disc_diameter_m;
+    std::cerr << "woven: cusick " << name << ": specimen " << 2 * R * 100 << " cm on a " << 2 * rd * 100 << " cm disc, spacing "
+              << co.spacing_m * 100 << " cm (" << setup.cut.count << " particles), " << runs << (runs == 1 ? " run\n" : " runs\n");
+    nlohmann::json run_list = nlohmann::json::array();
+    std::vector<double> dcs;
+    std::vector<int> counts;
+    std::vector<std::string> written;
+    const auto out = [&](const std::string& f) { return join_path(out_dir, f); };
+    bool all_converged = true, interrupted = false;
+    nlohmann::json first;
+    for (int k = 0; k < runs && !interrupted; ++k) {
+        testers::CusickOptions ck = co;
+        ck.solver.seed = seed0 + static_cast<std::uint64_t>(k);
+        const int max_steps = ck.solver.max_steps > 0 ? ck.solver.max_steps : 400;
+        Progress progress(max_steps, ck.solver.residual_tolerance);
+        const testers::CusickResult r = testers::run_cusick(fabric, ck, [&progress](const sim::StepInfo& s) { return progress(s); });
+        progress.finish();
+        interrupted = interrupt_requested() || r.drape.interrupted;
+        const analysis::Nodes& nd = r.shadow.nodes;
+        nlohmann::json j;
+        j["seed"] = ck.solver.seed;
+        j["drape_coefficient_percent"] = r.shadow.drape_coefficient_percent;
+        j["nodes"] = nd.count();
+        j["node_angles_deg"] = nd.angle_deg;
+        j["node_depths_m"] = nd.depth_m;
+        j["node_radii_m"] = nd.radius_m;
+        j["node_amplitudes_m"] = nd.amplitude_m;
+        j["shadow_area_m2"] = r.shadow.shadow_area_m2;
+        j["converged"] = r.drape.converged;
+        j["interrupted"] = interrupted;
+        j["steps"] = r.drape.steps;
+        j["iterations"] = r.drape.iterations;
+        j["wall_time_s"] = r.drape.wall_time;
+        j["max_residual_rel"] = r.drape.equilibrium.max_residual_rel;
+        j["energy_J"] = r.drape.energy.total();
+        all_converged = all_converged && r.drape.converged;
+        dcs.push_back(r.shadow.drape_coefficient_percent);
+        counts.push_back(nd.count());
+        const std::string suffix = runs == 1 ? "" : "-seed" + std::to_string(ck.solver.seed);
+        const std::string shadow_name = "shadow" + suffix + ".png";
+        render::write_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()), out(shadow_name));
+        written.push_back(shadow_name);
+        if (k == 0) {
+            io::write_file_atomic(out("cusick.obj"), surface_obj(r.surface, r.surface_uv, name, r.spacing_m));
+            written.push_back("cusick.obj");
+            if (!o.no_render) {
+                render::write_png(drape_picture(r, setup, fabric), out("drape.png"));
+                written.push_back("drape.png");
+            }
+            first = j;
+        }
+        run_list.push_back(j);
+        std::cout << "run " << k + 1 << "/" << runs << " seed " << ck.solver.seed << ": DC " << std::fixed << std::setprecision(1)
+                  << r.shadow.drape_coefficient_percent << " %, " << nd.count() << " nodes at " << angles_text(nd.angle_deg)
+                  << " deg from the warp, " << (r.drape.converged ? "converged" : "NOT converged") << " in " << r.drape.steps << " steps, "
+                  << std::setprecision(1) << r.drape.wall_time << " s\n";
+        std::cout.unsetf(std::ios::fixed);
+    }
+
+    // 3. cusick.json.
+    nlohmann::json rep;
+    rep["version"] = WOVEN_VERSION;
+    rep["fabric"] = name;
+    rep["specimen_diameter_m"] = co.specimen_diameter_m;
+    rep["disc_diameter_m"] = co.disc_diameter_m;
+    rep["spacing_m"] = co.spacing_m;
+    rep["grid"] = {setup.grid.nu, setup.grid.nv};
+    rep["particles"] = setup.cut.count;
+    rep["clamped_particles"] = setup.clamped.size();
+    rep["specimen_area_m2"] = setup.cut.total_area;
+    rep["specimen_mass_kg"] = setup.cut.total_area * fabric.areal_density_mg_cm2 * 1e-2;
+    rep["angle_reference"] = "0 deg = warp (+y, grid v), 90 deg = weft (+x, grid u), seen from above";
+    rep["node_min_prominence_m"] = co.shadow.min_prominence_fraction * (R - rd);
+    for (const char* key : {"drape_coefficient_percent", "nodes", "node_angles_deg", "node_depths_m"}) rep[key] = first[key];
+    rep["converged"] = all_converged;
+    rep["interrupted"] = interrupted;
+    rep["residual_tolerance"] = co.solver.residual_tolerance;
+    rep["runs"] = run_list;
+    if (runs > 1) {
+        const double n = static_cast<double>(dcs.size());
+        double mean = 0, var = 0;
+        for (double d : dcs) mean += d / n;
+        for (double d : dcs) var += (d - mean) * (d - mean) / std::max(1.0, n - 1);
+        rep["drape_coefficient_mean"] = mean;
+        rep["drape_coefficient_std"] = std::sqrt(var);
+        rep["nodes_per_run"] = counts;
+        std::map<int, int> per;
+        for (int c : counts) ++per[c];
+        nlohmann::json pj = nlohmann::json::object();
+        for (const auto& [c, m] : per) pj[std::to_string(c)] = m;
+        rep["runs_per_node_count"] = pj;
+    }
+    io::write_file_atomic(out("cusick.json"), rep.dump(2) + "\n");
+    written.push_back("cusick.json");
+    std::cout << "wrote";
+    for (const auto& w : written) std::cout << " " << out(w);
+    std::cout << "\n";
+    if (interrupted) {
+        std::cerr << "woven: interrupted; the outputs hold the runs done (not converged)\n";
+        return interrupted_exit_code();
+    }
+    if (!all_converged) std::cerr << "woven: warning: not every run converged (raise --max-steps)\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+void add_cusick_command(CLI::App& app, int& exit_code)
+{
+    auto o = std::make_shared<CusickCommandOptions>();
+    CLI::App* sub = app.add_subcommand("cusick", "Cusick drape test: drape coefficient and nodes of a circular specimen on a disc");
+    sub->footer("The specimen (a disc cut from the particle grid, warp along +y) is clamped centred on the support disc and "
+                "drapes to rest; DC = (A_shadow - A_disc) / (A_specimen - A_disc) x 100 %. Writes shadow.png (top view, warp "
+                "up), drape.png, cusick.obj and cusick.json to --out; one line per run on stdout. Node angles are measured "
+                "from the warp towards the weft.");
+    sub->add_option("FABRIC", o->fabric, "A built-in fabric (see `woven fabrics`) or a fabric .toml file")->required();
+    sub->add_option("--specimen-cm", o->specimen_cm, "Specimen diameter, cm (the standard's 30; 24 and 36 are also used)")->capture_default_str();
+    sub->add_option("--disc-cm", o->disc_cm, "Support disc diameter, cm")->capture_default_str();
+    sub->add_option("--spacing-cm", o->spacing_cm, "Particle spacing, cm (default 0.5: where the drape coefficient has converged)");
+    sub->add_option("--seeds", o->seeds, "Runs, each from a different small random perturbation of the flat start")->capture_default_str();
+    sub->add_option("--seed", o->seed, "Seed of the first run (the others: seed + 1, ...)")->capture_default_str();
+    sub->add_option("--threads", o->threads, "Worker threads (0: all cores)");
+    sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)");
+    sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
+    sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
+    sub->callback([o, &exit_code] { exit_code = run_cusick(*o); });
+}
+
+}  // namespace woven::cli

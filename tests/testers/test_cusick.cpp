@@ -1,0 +1,142 @@
+// The Cusick drape tester: the instrument's setup, and the drape coefficient's physics at its
+// limits (a stiff specimen stays flat: DC near 100 %; a limp one hangs: DC near 0 %), its
+// monotonic fall with bending rigidity, and evenly spread nodes for an isotropic fabric.
+// The drapes run at 1 cm spacing (about 700 particles) to stay fast.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include <gtest/gtest.h>
+
+#include "woven/common/error.hpp"
+#include "woven/kes/fabric.hpp"
+#include "woven/testers/cusick.hpp"
+
+namespace t = woven::testers;
+namespace kes = woven::kes;
+using woven::InputError;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// A fabric of summary values: W mg/cm2, B warp and weft gf.cm2/cm, G gf/(cm.deg), no hysteresis.
+kes::FabricData fabric(double W, double B_warp, double B_weft, double G)
+{
+    kes::FabricData f;
+    f.name = "synthetic";
+    f.source = "test";
+    f.areal_density_mg_cm2 = W;
+    f.bending_warp.summary = kes::BendingSummary{B_warp, 0.0};
+    f.bending_weft.summary = kes::BendingSummary{B_weft, 0.0};
+    f.shear.summary = kes::ShearSummary{G, 0.0, 0.0};
+    f.bending_warp.curve = kes::synthesize_bending_curve(*f.bending_warp.summary);
+    f.bending_weft.curve = kes::synthesize_bending_curve(*f.bending_weft.summary);
+    f.shear.curve = kes::synthesize_shear_curve(*f.shear.summary);
+    return f;
+}
+
+/// 1 cm spacing; without a seed, a flat start (no perturbation: the drape keeps the grid's
+/// symmetry, and costs half the Newton iterations).
+t::CusickOptions coarse(std::optional<std::uint64_t> seed = std::nullopt)
+{
+    t::CusickOptions o;
+    o.spacing_m = 0.01;
+    o.perturbation_m = seed ? 0.001 : 0.0;
+    o.solver.seed = seed.value_or(1);
+    o.solver.threads = 1;
+    return o;
+}
+
+/// The drapes take seconds in a Release build and minutes under the sanitizers.
+#if defined(__SANITIZE_ADDRESS__)
+#define SKIP_UNDER_SANITIZERS() GTEST_SKIP() << "a drape: too slow under AddressSanitizer (runs in the Release tests)"
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SKIP_UNDER_SANITIZERS() GTEST_SKIP() << "a drape: too slow under AddressSanitizer (runs in the Release tests)"
+#endif
+#endif
+#ifndef SKIP_UNDER_SANITIZERS
+#define SKIP_UNDER_SANITIZERS() (void)0
+#endif
+
+}  // namespace
+
+TEST(Cusick, SetupIsTheStandardInstrument)
+{
+    const t::CusickSetup s = t::make_cusick_setup(coarse());
+    EXPECT_EQ(s.grid.nu, 33);  // 2 ceil(0.15 / 0.01) + 3
+    EXPECT_NEAR(s.cut.total_area, kPi * 0.15 * 0.15, 1e-14);
+    EXPECT_EQ(s.obstacles.size(), 3u);  // floor, pedestal, disc
+    // Clamped: every kept particle within the disc's 9 cm, nothing else.
+    int inside = 0;
+    for (int j = 0; j < s.grid.nv; ++j)
+        for (int i = 0; i < s.grid.nu; ++i)
+            inside += s.cut.active[s.grid.index(i, j)] && woven::model::rest_uv(s.grid, i, j).norm() <= 0.09;
+    EXPECT_EQ(static_cast<int>(s.clamped.size()), inside);
+    // The floor lies further below the disc than the hanging part can reach.
+    EXPECT_GT(s.disc_top_z, 0.15 - 0.09);
+    for (const auto& p : s.initial) EXPECT_GT(p.z(), s.disc_top_z);
+}
+
+TEST(Cusick, BadSizesAreErrorsNamingTheField)
+{
+    t::CusickOptions o = coarse();
+    o.disc_diameter_m = 0.30;
+    EXPECT_THROW(t::make_cusick_setup(o), InputError);
+    o = coarse();
+    o.spacing_m = 0.04;  // more than half the 6 cm overhang
+    try {
+        t::make_cusick_setup(o);
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "spacing_m");
+    }
+}
+
+TEST(Cusick, AVeryStiffSpecimenStaysFlatDCNear100)
+{
+    SKIP_UNDER_SANITIZERS();
+    // Bending length (40 / 0.005)^(1/3) = 20 cm, three times the 6 cm overhang.
+    const t::CusickResult r = t::run_cusick(fabric(5, 40, 40, 5), coarse());
+    EXPECT_TRUE(r.drape.converged);
+    EXPECT_GT(r.shadow.drape_coefficient_percent, 97.0);
+    EXPECT_LE(r.shadow.drape_coefficient_percent, 100.5);  // a stiff plate stretches a little under its weight
+    EXPECT_EQ(r.shadow.nodes.count(), 0);
+}
+
+TEST(Cusick, ALimpSpecimenHangsDCNearZero)
+{
+    SKIP_UNDER_SANITIZERS();
+    // Bending length (1e-4 / 0.05)^(1/3) = 1.3 mm, a tenth of the spacing; negligible shear.
+    const t::CusickResult r = t::run_cusick(fabric(50, 1e-4, 1e-4, 1e-3), coarse());
+    EXPECT_TRUE(r.drape.converged);
+    EXPECT_LT(r.shadow.drape_coefficient_percent, 15.0);
+    EXPECT_GT(r.shadow.drape_coefficient_percent, -1.0);
+}
+
+TEST(Cusick, DCFallsAsBendingRigidityFalls)
+{
+    SKIP_UNDER_SANITIZERS();
+    double last = 101;
+    for (double B : {0.6, 0.2, 0.06}) {
+        SCOPED_TRACE(B);
+        const t::CusickResult r = t::run_cusick(fabric(15, B, B, 1.0), coarse());
+        EXPECT_TRUE(r.drape.converged);
+        EXPECT_LT(r.shadow.drape_coefficient_percent, last - 5.0);
+        last = r.shadow.drape_coefficient_percent;
+    }
+}
+
+TEST(Cusick, AnIsotropicFabricsNodesAreEvenlySpread)
+{
+    SKIP_UNDER_SANITIZERS();
+    const t::CusickResult r = t::run_cusick(fabric(12, 0.1, 0.1, 1.0), coarse(3u));
+    const auto& a = r.shadow.nodes.angle_deg;
+    ASSERT_GE(a.size(), 3u);
+    std::vector<double> gaps;
+    for (size_t k = 0; k < a.size(); ++k) gaps.push_back(k + 1 < a.size() ? a[k + 1] - a[k] : a[0] + 360 - a[k]);
+    const double even = 360.0 / a.size();
+    for (double g : gaps) EXPECT_NEAR(g, even, 0.35 * even);
+}
