@@ -3,10 +3,10 @@
 // search, one Newton linear solve (factorisation + solve, and a solve reusing the factor), and
 // an obstacle query on a triangle mesh (the chair). Times per call; "per particle" counters
 // divide by n^2. Run: make bench, or build/bench/bench_model --benchmark_filter=...
-#include <benchmark/benchmark.h>
-
 #include <random>
 #include <string>
+
+#include <benchmark/benchmark.h>
 
 #include "sim/sim_fixtures.hpp"
 #include "woven/common/embedded.hpp"
@@ -49,7 +49,8 @@ struct Setup {
 
 void per_particle(benchmark::State& state, int particles)
 {
-    state.counters["per_particle"] = benchmark::Counter(static_cast<double>(particles), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    state.counters["per_particle"] =
+        benchmark::Counter(static_cast<double>(particles), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 void energy(benchmark::State& state)

@@ -9,12 +9,6 @@
 // Usage: drape_bench --woven BUILD/woven [--bullet BUILD/bench/peers/bullet_drape] --out DIR
 //        [--grids 51,101,201] [--paper-grids 21,51] [--repeat 3] [--bullet-max-wall 300]
 //        [--max-wall 1800] [--reference-energy 0.4760152] [--skip-threads2]
-#include <fcntl.h>
-#include <sys/resource.h>
-#include <sys/select.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,7 +23,12 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
 #include <nlohmann/json.hpp>
+#include <sys/resource.h>
+#include <sys/select.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "woven/render/image.hpp"
 #include "woven/render/plot.hpp"
@@ -42,11 +41,11 @@ using nlohmann::json;
 struct Options {
     std::string woven, bullet, out = "bench-out";
     std::vector<int> grids{51, 101, 201}, paper_grids{21, 51};
-    int repeat = 3;                   // runs of a case whose first run is under repeat_below_s
-    double repeat_below_s = 60;       // s
-    double bullet_max_wall = 300;     // s of Bullet stepping (its --maxwall)
-    double max_wall = 1800;           // s: a run is killed after this
-    double reference_energy = 0;      // J: the 51 x 51 final energy before the performance work
+    int repeat = 3;                // runs of a case whose first run is under repeat_below_s
+    double repeat_below_s = 60;    // s
+    double bullet_max_wall = 300;  // s of Bullet stepping (its --maxwall)
+    double max_wall = 1800;        // s: a run is killed after this
+    double reference_energy = 0;   // J: the 51 x 51 final energy before the performance work
     bool threads2 = true;
 };
 
@@ -128,9 +127,11 @@ std::string join(const std::vector<std::string>& argv)
 /// One woven drape of the cube; the report's numbers plus the process's.
 json run_woven(const Options& opt, const std::string& solver, int grid, int threads, int rep)
 {
-    const std::string dir = opt.out + "/runs/" + solver + "-" + std::to_string(grid) + "-t" + std::to_string(threads) + "-r" + std::to_string(rep);
-    const std::vector<std::string> argv{opt.woven, "drape", "cube", "--grid", std::to_string(grid), "--solver", solver,
-                                        "--threads", std::to_string(threads), "--no-render", "--out", dir};
+    const std::string dir =
+        opt.out + "/runs/" + solver + "-" + std::to_string(grid) + "-t" + std::to_string(threads) + "-r" + std::to_string(rep);
+    const std::vector<std::string> argv{
+        opt.woven,     "drape", "cube", "--grid", std::to_string(grid), "--solver", solver, "--threads", std::to_string(threads),
+        "--no-render", "--out", dir};
     json r{{"tool", "woven"}, {"solver", solver}, {"grid", grid}, {"particles", grid * grid}, {"threads", threads}, {"repeat", rep}};
     r["load_average_before"] = load_average();
     const Outcome o = run_process(argv, opt.max_wall);
@@ -154,14 +155,17 @@ json run_woven(const Options& opt, const std::string& solver, int grid, int thre
     }
     // The solver's own wall time excludes start-up (scene, fabric fit, output), as Bullet's does.
     r["time_s"] = r.contains("wall_time_s") ? r["wall_time_s"].get<double>() : o.wall;
-    std::cerr << "drape_bench: woven " << solver << " " << grid << " t" << threads << " r" << rep << ": " << r["time_s"].get<double>() << " s\n";
+    std::cerr << "drape_bench: woven " << solver << " " << grid << " t" << threads << " r" << rep << ": " << r["time_s"].get<double>()
+              << " s\n";
     return r;
 }
 
 json run_bullet(const Options& opt, int grid, int rep)
 {
     const std::string json_path = opt.out + "/runs/bullet-" + std::to_string(grid) + "-r" + std::to_string(rep) + ".json";
-    const std::vector<std::string> argv{opt.bullet, "--n", std::to_string(grid), "--maxwall", std::to_string(opt.bullet_max_wall), "--snap-every", "0", "--json", json_path};
+    const std::vector<std::string> argv{
+        opt.bullet, "--n",    std::to_string(grid), "--maxwall", std::to_string(opt.bullet_max_wall), "--snap-every", "0",
+        "--json",   json_path};
     json r{{"tool", "bullet"}, {"solver", "bullet"}, {"grid", grid}, {"particles", grid * grid}, {"threads", 1}, {"repeat", rep}};
     r["load_average_before"] = load_average();
     const Outcome o = run_process(argv, opt.max_wall);
@@ -228,16 +232,26 @@ int main(int argc, char** argv)
             }
             return argv[++i];
         };
-        if (a == "--woven") opt.woven = value();
-        else if (a == "--bullet") opt.bullet = value();
-        else if (a == "--out") opt.out = value();
-        else if (a == "--grids") opt.grids = parse_list(value());
-        else if (a == "--paper-grids") opt.paper_grids = parse_list(value());
-        else if (a == "--repeat") opt.repeat = std::stoi(value());
-        else if (a == "--bullet-max-wall") opt.bullet_max_wall = std::stod(value());
-        else if (a == "--max-wall") opt.max_wall = std::stod(value());
-        else if (a == "--reference-energy") opt.reference_energy = std::stod(value());
-        else if (a == "--skip-threads2") opt.threads2 = false;
+        if (a == "--woven")
+            opt.woven = value();
+        else if (a == "--bullet")
+            opt.bullet = value();
+        else if (a == "--out")
+            opt.out = value();
+        else if (a == "--grids")
+            opt.grids = parse_list(value());
+        else if (a == "--paper-grids")
+            opt.paper_grids = parse_list(value());
+        else if (a == "--repeat")
+            opt.repeat = std::stoi(value());
+        else if (a == "--bullet-max-wall")
+            opt.bullet_max_wall = std::stod(value());
+        else if (a == "--max-wall")
+            opt.max_wall = std::stod(value());
+        else if (a == "--reference-energy")
+            opt.reference_energy = std::stod(value());
+        else if (a == "--skip-threads2")
+            opt.threads2 = false;
         else if (a == "--help" || a == "-h") {
             std::cout << "usage: drape_bench --woven WOVEN [--bullet BULLET] --out DIR [--grids 51,101,201] [--paper-grids 21,51]\n"
                          "       [--repeat 3] [--bullet-max-wall 300] [--max-wall 1800] [--reference-energy J] [--skip-threads2]\n";
@@ -287,20 +301,23 @@ int main(int argc, char** argv)
         return median(v);
     };
     std::ostringstream md;
-    md << "| tool | solver | grid | particles | threads | runs | time (s, median) | CPU (s) | peak RSS (MB) | steps | Newton its | factorisations | CG its | converged | energy (J) | residual (m g) | load avg |\n";
+    md << "| tool | solver | grid | particles | threads | runs | time (s, median) | CPU (s) | peak RSS (MB) | steps | Newton its | "
+          "factorisations | CG its | converged | energy (J) | residual (m g) | load avg |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& [c, rs] : by_case) {
         const json& r0 = rs.front();
         auto s = [&](const char* k, const char* f = "%.3g") { return fmt(med(c, k), f); };
         std::string conv = "-";
         if (r0.contains("converged")) conv = r0["converged"].get<bool>() ? "yes" : "no";
-        if (r0.contains("settled")) conv = r0["settled"].get<bool>() ? "settled" : "no (" + fmt(med(c, "sim_seconds"), "%.1f") + " s simulated)";
+        if (r0.contains("settled"))
+            conv = r0["settled"].get<bool>() ? "settled" : "no (" + fmt(med(c, "sim_seconds"), "%.1f") + " s simulated)";
         if (r0.value("killed", false)) conv = "killed at " + fmt(opt.max_wall, "%.0f") + " s";
         md << "| " << c.tool << " | " << c.solver << " | " << c.grid << " x " << c.grid << " | " << c.grid * c.grid << " | "
-           << (c.threads == 0 ? std::string("default") : std::to_string(c.threads)) << " | " << rs.size() << " | " << s("time_s", "%.2f") << " | "
-           << s("cpu_s", "%.2f") << " | " << s("max_rss_mib", "%.0f") << " | " << s("steps", "%.0f") << " | " << s("iterations", "%.0f") << " | "
-           << s("factorizations", "%.0f") << " | " << s("cg_iterations", "%.0f") << " | " << conv << " | " << s("energy_J", "%.7f") << " | "
-           << s("max_residual_rel", "%.2g") << " | " << s("load_average_before", "%.1f") << " |\n";
+           << (c.threads == 0 ? std::string("default") : std::to_string(c.threads)) << " | " << rs.size() << " | " << s("time_s", "%.2f")
+           << " | " << s("cpu_s", "%.2f") << " | " << s("max_rss_mib", "%.0f") << " | " << s("steps", "%.0f") << " | "
+           << s("iterations", "%.0f") << " | " << s("factorizations", "%.0f") << " | " << s("cg_iterations", "%.0f") << " | " << conv
+           << " | " << s("energy_J", "%.7f") << " | " << s("max_residual_rel", "%.2g") << " | " << s("load_average_before", "%.1f")
+           << " |\n";
     }
 
     // ---- targets ----
@@ -314,9 +331,12 @@ int main(int argc, char** argv)
         std::vector<double> ratios;
         const auto& w = by_case[{"woven", "fast", 51, 1}];
         const auto& b = by_case[{"bullet", "bullet", 51, 1}];
-        for (size_t k = 0; k < std::min(w.size(), b.size()); ++k) ratios.push_back(w[k]["time_s"].get<double>() / b[k]["time_s"].get<double>());
+        for (size_t k = 0; k < std::min(w.size(), b.size()); ++k)
+            ratios.push_back(w[k]["time_s"].get<double>() / b[k]["time_s"].get<double>());
         const double r = median(ratios);
-        row("51 x 51: woven at least 20 x faster than Bullet (woven/Bullet <= 0.05), one thread each, same run", "ratio " + fmt(r, "%.3f") + " (Bullet/woven " + fmt(1 / r, "%.1f") + " x; pairs: " + std::to_string(ratios.size()) + ")", r <= 0.05, std::isfinite(r));
+        row("51 x 51: woven at least 20 x faster than Bullet (woven/Bullet <= 0.05), one thread each, same run",
+            "ratio " + fmt(r, "%.3f") + " (Bullet/woven " + fmt(1 / r, "%.1f") + " x; pairs: " + std::to_string(ratios.size()) + ")",
+            r <= 0.05, std::isfinite(r));
     }
     const double t51 = t("woven", "fast", 51, 1), t101 = t("woven", "fast", 101, 1), t201 = t("woven", "fast", 201, 1);
     row("101 x 101 <= 5 s, one thread", fmt(t101, "%.2f") + " s", t101 <= 5, std::isfinite(t101));
@@ -324,7 +344,8 @@ int main(int argc, char** argv)
     {
         const double p = std::log(t201 / t51) / std::log(201.0 * 201 / (51.0 * 51));
         const double p101 = std::log(t101 / t51) / std::log(101.0 * 101 / (51.0 * 51));
-        row("cost growth <= n^1.3 from 51 to 201 (n particles)", "n^" + fmt(p, "%.2f") + " (51 to 101: n^" + fmt(p101, "%.2f") + ")", p <= 1.3, std::isfinite(p));
+        row("cost growth <= n^1.3 from 51 to 201 (n particles)", "n^" + fmt(p, "%.2f") + " (51 to 101: n^" + fmt(p101, "%.2f") + ")",
+            p <= 1.3, std::isfinite(p));
     }
     {
         const double s201 = t201 / t("woven", "fast", 201, 2);
@@ -340,7 +361,8 @@ int main(int argc, char** argv)
         }
         row("two threads never slower than one (speed-up t1/t2 >= 1 at every grid)", m, ok, known);
         const double sd = t("woven", "fast", opt.grids.front(), 1) / t("woven", "fast", opt.grids.front(), 0);
-        row("default threads never slower than one (" + std::to_string(opt.grids.front()) + " x " + std::to_string(opt.grids.front()) + ")", fmt(sd, "%.2f") + " x", sd >= 1.0, std::isfinite(sd));
+        row("default threads never slower than one (" + std::to_string(opt.grids.front()) + " x " + std::to_string(opt.grids.front()) + ")",
+            fmt(sd, "%.2f") + " x", sd >= 1.0, std::isfinite(sd));
     }
     {
         const double rss = med({"woven", "fast", 201, 1}, "max_rss_mib");
@@ -349,12 +371,15 @@ int main(int argc, char** argv)
     for (int g : opt.paper_grids) {
         const double r = t("woven", "paper", g, 1) / t("woven", "fast", g, 1);
         row("paper solver / fast solver at " + std::to_string(g) + " x " + std::to_string(g) + " (a measured ratio)",
-            fmt(r, "%.1f") + " (paper " + fmt(t("woven", "paper", g, 1), "%.1f") + " s, fast " + fmt(t("woven", "fast", g, 1), "%.2f") + " s)", true, std::isfinite(r));
+            fmt(r, "%.1f") + " (paper " + fmt(t("woven", "paper", g, 1), "%.1f") + " s, fast " + fmt(t("woven", "fast", g, 1), "%.2f")
+                + " s)",
+            true, std::isfinite(r));
     }
     if (opt.reference_energy > 0) {
         const double e = med({"woven", "fast", 51, 1}, "energy_J");
         const double rel = (e - opt.reference_energy) / opt.reference_energy;
-        row("51 x 51 final energy within 1e-4 relative of " + fmt(opt.reference_energy, "%.7f") + " J, or lower", fmt(e, "%.7f") + " J (" + fmt(rel, "%+.2e") + ")", rel <= 1e-4, std::isfinite(e));
+        row("51 x 51 final energy within 1e-4 relative of " + fmt(opt.reference_energy, "%.7f") + " J, or lower",
+            fmt(e, "%.7f") + " J (" + fmt(rel, "%+.2e") + ")", rel <= 1e-4, std::isfinite(e));
     }
     std::ofstream(opt.out + "/table.md") << md.str();
 
@@ -367,7 +392,9 @@ int main(int argc, char** argv)
     const woven::Vec3 colours[] = {{0.12, 0.47, 0.71}, {1.0, 0.5, 0.05}, {0.17, 0.63, 0.17}, {0.84, 0.15, 0.16}, {0.58, 0.40, 0.74}};
     for (const auto& [c, rs] : by_case) {
         if (c.threads == 0) continue;
-        std::string label = c.tool == "bullet" ? "Bullet 3.24, 20 simulated s or 300 s cap" : "woven " + c.solver + ", " + std::to_string(c.threads) + " thread" + (c.threads > 1 ? "s" : "");
+        std::string label = c.tool == "bullet"
+            ? "Bullet 3.24, 20 simulated s or 300 s cap"
+            : "woven " + c.solver + ", " + std::to_string(c.threads) + " thread" + (c.threads > 1 ? "s" : "");
         auto& s = series[label];
         s.label = label;
         s.style = woven::render::Series::Style::LINE_AND_POINTS;

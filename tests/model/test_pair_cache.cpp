@@ -24,7 +24,7 @@ std::vector<model::Stencil<2>> all_pairs_closer_than(const Positions& x, double 
 }
 
 struct NoSink {
-    template <int N> void add(model::Term, const model::Stencil<N>&, const model::Local<N>&, bool) { }
+    template <int N> void add(model::Term, const model::Stencil<N>&, const model::Local<N>&, bool) {}
 };
 
 TEST(PairCache, EqualsClosePairsAlongARandomWalk)

@@ -14,7 +14,7 @@ namespace woven::model {
 class PairCache {
 public:
     /// `skin` in sigma (> 0).
-    explicit PairCache(const ClothModel& model, double skin = 0.5) : model_(model), skin_(skin * model.sigma()) { }
+    explicit PairCache(const ClothModel& model, double skin = 0.5) : model_(model), skin_(skin * model.sigma()) {}
 
     /// close_pairs(x): the pairs i < j of active particles closer than sigma, ascending.
     const std::vector<Stencil<2>>& pairs(const Positions& x)
