@@ -79,6 +79,9 @@ inline model::ClothModel make_model(const model::Grid& grid, Terms on, const Cur
     f.bending_weft = on.weft ? curves.weft : zero_curve(2.5);
     f.shear = on.trellis ? curves.shear : zero_curve(8.0);
     model::ModelOptions o;
+    // These tests check the paper's per-stencil terms at full weight; the convergent
+    // discretisation's weights and masses are tested in tests/testers/test_discretization.cpp.
+    o.discretization = model::Discretization::PAPER;
     o.bending_form = form;
     o.gram_force = units::GramForce::PAPER;
     o.gravity = on.gravity ? units::kStandardGravity : 0.0;

@@ -273,8 +273,11 @@ TEST(Outline, ClothMassIsWTimesTheOutlinesArea)
     for (const auto& e : model.stencils().edges) EXPECT_TRUE(c.active[e[0]] && c.active[e[1]]);
     for (const auto& b : model.stencils().warp_bends) EXPECT_TRUE(c.active[b[0]] && c.active[b[1]] && c.active[b[2]]);
     EXPECT_EQ(static_cast<int>(model.stencils().particles.size()), c.count);
-    // Without areas every kept particle weighs a full patch: the disc would weigh more.
-    const m::ClothModel patches = m::make_cloth_model(f, g, m::ModelOptions{}, c.active);
+    // Without areas, in the paper's convention every kept particle weighs a full patch: the
+    // disc would weigh more.
+    m::ModelOptions paper;
+    paper.discretization = m::Discretization::PAPER;
+    const m::ClothModel patches = m::make_cloth_model(f, g, paper, c.active);
     double patch_mass = 0;
     for (int p = 0; p < g.size(); ++p) patch_mass += patches.mass(p);
     EXPECT_NEAR(patch_mass, 0.12 * c.count * 0.005 * 0.005, 1e-12);

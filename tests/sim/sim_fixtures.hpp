@@ -33,6 +33,16 @@ inline kes::FabricData balanced()
     return f;
 }
 
+/// The paper's literal discretisation (model/stencils.hpp): the paper solver reproduces the
+/// paper with it; the convergent default's stiff threads cap its time step far below the
+/// paper's (sqrt(m / 4 S'')), so the tests comparing it with the fast solver use this.
+inline model::ModelOptions paper_model()
+{
+    model::ModelOptions o;
+    o.discretization = model::Discretization::PAPER;
+    return o;
+}
+
 /// An n x n grid of side `size` (m).
 inline model::Grid square_grid(int n, double size) { return model::Grid{n, n, size / (n - 1)}; }
 

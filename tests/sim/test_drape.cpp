@@ -177,7 +177,7 @@ TEST(FastSolver, SameInputSameResultBitForBit)
 TEST(PaperSolver, SameSeedSameResultDifferentSeedDifferent)
 {
     const model::Grid grid = test::square_grid(7, 0.3);
-    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, test::paper_model());
     ObstacleSet obstacles;
     obstacles.add(std::make_unique<geometry::Sphere>(Vec3(0, 0, 0.1), 0.1));
     const Positions start = model::flat_grid(grid, Vec3(0, 0, 0.21));
@@ -197,7 +197,7 @@ TEST(PaperSolver, SameSeedSameResultDifferentSeedDifferent)
 TEST(PaperSolver, PinnedSheetReachesTheFastSolversEquilibrium)
 {
     const model::Grid grid = test::square_grid(5, 0.2);
-    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, test::paper_model());
     const ObstacleSet none;
     const Positions start = model::flat_grid(grid, Vec3(0, 0, 1));
     const std::vector<int> pinned{grid.index(0, 4), grid.index(4, 4)};
@@ -218,7 +218,7 @@ TEST(PaperSolver, CubeDrapeReachesTheFastSolversEnergyWithoutPenetration)
 {
     // Threads wrapping the cube's edges: particles in contact must slide along the faces.
     const model::Grid grid = test::square_grid(7, 0.3);
-    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, test::paper_model());
     ObstacleSet obstacles;
     obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ()));
     obstacles.add(std::make_unique<geometry::Box>(Vec3(0, 0, 0.075), Vec3(0.075, 0.075, 0.075)));

@@ -22,6 +22,11 @@ double& EnergyTerms::operator[](Term t)
     return gravity;
 }
 
+double tensile_stiffness_from_emt(double emt_percent, units::GramForce gf)
+{
+    return kEMTLoad * units::newton_per_gram_force(gf) * units::kMToCm / (emt_percent / 100.0);
+}
+
 std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& active, double areal_density_kg_m2,
     const std::vector<double>& area_m2)
 {
@@ -37,16 +42,25 @@ std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& a
 
 ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active,
     const std::vector<double>& area_m2)
-    : grid_(grid), stencils_(make_stencils(grid, std::move(active)))
+    : grid_(grid), stencils_(make_stencils(grid, std::move(active), options.discretization)), discretization_(options.discretization)
 {
     assert(grid.nu > 0 && grid.nv > 0 && grid.sigma > 0);
     const double sigma = grid.sigma;
     const double W = fabric.areal_density_mg_cm2 * units::kMgPerCm2ToKgPerM2;
-    masses_ = particle_masses(grid, stencils_.active, W, area_m2);
+    // CONVERGENT: each particle's dual cell (stencils.hpp), unless the areas are given.
+    std::vector<double> area = area_m2;
+    if (area.empty() && options.discretization == Discretization::CONVERGENT)
+        for (int p = 0; p < grid.size(); ++p) area.push_back(stencils_.particle_areas[p] * sigma * sigma);
+    masses_ = particle_masses(grid, stencils_.active, W, area);
     patch_mass_ = W * sigma * sigma;
     gravity_ = options.gravity;
     const double hang = 0.5 * std::max(grid.nu - 1, grid.nv - 1) * sigma;
-    spacing_ = ThreadSpacing{options.C0 > 0 ? options.C0 : choose_C0(W, options.gravity, sigma, hang), sigma};
+    // C0 for the paper's stretch well and the repulsion; without gravity, as under standard
+    // gravity (choose_C0 would give no well at all).
+    const double g_C0 = options.gravity > 0 ? options.gravity : units::kStandardGravity;
+    spacing_ = ThreadSpacing{options.C0 > 0 ? options.C0 : choose_C0(W, g_C0, sigma, hang), sigma};
+    if (options.discretization == Discretization::CONVERGENT)
+        spacing_.tensile = options.tensile_stiffness > 0 ? options.tensile_stiffness : tensile_stiffness_from_emt(kDefaultEMT, options.gram_force);
     warp_ = BendingEnergy(fabric.bending_warp, sigma, options.bending_form, options.gram_force);
     weft_ = BendingEnergy(fabric.bending_weft, sigma, options.bending_form, options.gram_force);
     trellis_ = TrellisEnergy(fabric.shear, sigma, options.gram_force);
@@ -127,7 +141,10 @@ std::vector<Stencil<2>> ClothModel::close_pairs(const Positions& x, double radiu
 ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active,
     const std::vector<double>& area_m2)
 {
-    return ClothModel(kes::fit_fabric(fabric), grid, options, std::move(active), area_m2);
+    ModelOptions o = options;
+    if (o.discretization == Discretization::CONVERGENT && !(o.tensile_stiffness > 0) && fabric.tensile && fabric.tensile->EMT > 0)
+        o.tensile_stiffness = tensile_stiffness_from_emt(fabric.tensile->EMT, o.gram_force);
+    return ClothModel(kes::fit_fabric(fabric), grid, o, std::move(active), area_m2);
 }
 
 Positions flat_grid(const Grid& grid, const Vec3& centre, double yaw)

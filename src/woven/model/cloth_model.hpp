@@ -32,13 +32,32 @@ struct EnergyTerms {
 
 /// Model settings beyond the fabric (SI).
 struct ModelOptions {
-    BendingForm bending_form = BendingForm::SECANT;
+    /// WORK: the moment a bent thread carries is the input curve's M(K), as the virtual KES-FB2
+    /// test shows (docs/VALIDATION.md); SECANT, the paper's Eq. (12), carries (M + K dM/dK)/2.
+    BendingForm bending_form = BendingForm::WORK;
+    /// CONVERGENT: consistent masses and weights at edges and corners, a stiff linear thread
+    /// (tensile_stiffness), converging to the continuum at second order (docs/VALIDATION.md).
+    /// PAPER: the paper's literal convention (stencils.hpp), kept to reproduce its results.
+    Discretization discretization = Discretization::CONVERGENT;
+    /// CONVERGENT: the thread's tensile stiffness per unit width, N/m: the stretch energy of a
+    /// segment is E_t (r - sigma)^2 / 2 in tension and compression. <= 0: from the fabric's KES
+    /// EMT (the secant stiffness 500 gf/cm / EMT), or kDefaultEMT where it gives none.
+    double tensile_stiffness = 0;
     units::GramForce gram_force = units::GramForce::PAPER;
     double gravity = units::kStandardGravity;  ///< m/s^2
     /// C0 of Eq. (2, 3) in J; <= 0: chosen by choose_C0 for a hanging length of half the
     /// cloth's longer side and 1 % strain.
     double C0 = 0;
 };
+
+/// The extension (%) at 500 gf/cm assumed when a fabric gives no KES tensile values: a typical
+/// woven shirting (KES-DATA.md ranges 3-8 %).
+inline constexpr double kDefaultEMT = 5.0;
+/// The KES tensile load EMT is measured at, gf/cm.
+inline constexpr double kEMTLoad = 500.0;
+
+/// Tensile stiffness per unit width (N/m) from KES EMT (%): 500 gf/cm over EMT / 100.
+double tensile_stiffness_from_emt(double emt_percent, units::GramForce gf);
 
 /// Particle masses (kg): W times the area each active particle stands for, 0 for an inactive
 /// one. W in kg/m^2. `area_m2` (one per grid particle, e.g. model::ClothCut::area for a cloth
@@ -54,6 +73,9 @@ public:
     /// the area each particle stands for (empty: sigma^2), see particle_masses.
     ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {},
         const std::vector<double>& area_m2 = {});
+
+    /// The discretisation the model was built with.
+    Discretization discretization() const { return discretization_; }
 
     /// Energy terms at x, one position per grid particle; a term is +inf in a singular
     /// configuration (terms.hpp).
@@ -103,6 +125,7 @@ private:
     Stencils stencils_;
     std::vector<double> masses_;
     double patch_mass_, gravity_;
+    Discretization discretization_ = Discretization::CONVERGENT;
     ThreadSpacing spacing_;
     BendingEnergy warp_, weft_;
     TrellisEnergy trellis_;
@@ -116,14 +139,17 @@ ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, con
 
 namespace detail {
 
-/// Sums one term over its stencils and sends the local derivatives to the sink.
+/// Sums one term over its stencils, each times its weight (stencils.hpp), and sends the local
+/// derivatives to the sink.
 template <class T, class Sink>
-double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>>& stencils, const Positions& x, Derivatives what, Sink& sink)
+double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>>& stencils, const std::vector<double>& weights, const Positions& x, Derivatives what, Sink& sink)
 {
     constexpr int N = T::kParticles;
     double sum = 0;
-    for (const Stencil<N>& s : stencils) {
-        const Local<N> l = term.evaluate(gather<N>(x, s), what);
+    for (std::size_t k = 0; k < stencils.size(); ++k) {
+        const Stencil<N>& s = stencils[k];
+        Local<N> l = term.evaluate(gather<N>(x, s), what);
+        if (!weights.empty() && weights[k] != 1.0) scale_local(l, weights[k]);
         sum += l.value;
         if (what != Derivatives::NONE && !l.vanishes && std::isfinite(l.value)) sink.template add<N>(id, s, l, what != Derivatives::GRADIENT);
     }
@@ -147,11 +173,11 @@ EnergyTerms ClothModel::evaluate(const Positions& x, Derivatives what, Sink& sin
         e.gravity += l.value;
         if (what != Derivatives::NONE) sink.template add<1>(Term::GRAVITY, {p}, l, false);  // linear: no Hessian
     }
-    e.stretch = detail::add_term(Term::STRETCH, stretch_term(), stencils_.edges, x, what, sink);
-    e.repulsion = detail::add_term(Term::REPULSION, repulsion_term(), pairs, x, what, sink);
-    e.bending_warp = detail::add_term(Term::BENDING_WARP, BendingTerm(warp_), stencils_.warp_bends, x, what, sink);
-    e.bending_weft = detail::add_term(Term::BENDING_WEFT, BendingTerm(weft_), stencils_.weft_bends, x, what, sink);
-    e.trellis = detail::add_term(Term::TRELLIS, trellis_term(), stencils_.crossings, x, what, sink);
+    e.stretch = detail::add_term(Term::STRETCH, stretch_term(), stencils_.edges, stencils_.edge_weights, x, what, sink);
+    e.repulsion = detail::add_term(Term::REPULSION, repulsion_term(), pairs, {}, x, what, sink);
+    e.bending_warp = detail::add_term(Term::BENDING_WARP, BendingTerm(warp_), stencils_.warp_bends, stencils_.warp_weights, x, what, sink);
+    e.bending_weft = detail::add_term(Term::BENDING_WEFT, BendingTerm(weft_), stencils_.weft_bends, stencils_.weft_weights, x, what, sink);
+    e.trellis = detail::add_term(Term::TRELLIS, trellis_term(), stencils_.crossings, stencils_.crossing_weights, x, what, sink);
     return e;
 }
 

@@ -26,6 +26,11 @@ struct Scalar3 {
 struct ThreadSpacing {
     double C0 = 0;     ///< J
     double sigma = 0;  ///< m
+    /// > 0 (the convergent discretisation): the thread is a linear spring instead, the stretch
+    /// S(r) = E_t (r - sigma)^2 / 2 in tension and compression (a segment of width and length
+    /// sigma stores E_t eps^2 / 2 per unit area, eps = (r - sigma)/sigma), E_t in N/m; the
+    /// repulsion R keeps C0.
+    double tensile = 0;
 
     Scalar3 repulsion(double r) const;
     Scalar3 stretch(double r) const;

@@ -22,7 +22,7 @@ bool Stencils::coupled(int p, int q) const
     return std::binary_search(row.begin(), row.end(), q);
 }
 
-Stencils make_stencils(const Grid& grid, std::vector<char> active)
+Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretization d)
 {
     const int n = grid.size();
     if (active.empty()) active.assign(n, 1);
@@ -43,12 +43,50 @@ Stencils make_stencils(const Grid& grid, std::vector<char> active)
             if (on(i, j - 1) && on(i, j) && on(i, j + 1)) s.warp_bends.push_back({grid.index(i, j - 1), grid.index(i, j), grid.index(i, j + 1)});
             if (on(i - 1, j) && on(i, j) && on(i + 1, j)) s.weft_bends.push_back({grid.index(i - 1, j), grid.index(i, j), grid.index(i + 1, j)});
         }
+    // Weights (Discretization). A grid cell (i, j)-(i+1, j+1) is cloth when its four corners are.
+    auto cell = [&](int i, int j) { return on(i, j) && on(i + 1, j) && on(i, j + 1) && on(i + 1, j + 1) ? 1.0 : 0.0; };
+    bool any_cell = false;
+    for (int j = 0; j + 1 < grid.nv && !any_cell; ++j)
+        for (int i = 0; i + 1 < grid.nu && !any_cell; ++i) any_cell = cell(i, j) > 0;
+    // A grid without a single cell (one particle, one thread) has no area to share out: it
+    // keeps the paper's convention.
+    const bool convergent = d == Discretization::CONVERGENT && any_cell;
+    auto dual_area = [&](int i, int j) {  // in sigma^2: a quarter of each cloth cell around (i, j)
+        return 0.25 * (cell(i - 1, j - 1) + cell(i, j - 1) + cell(i - 1, j) + cell(i, j));
+    };
+    auto weight = [&](int i, int j) { return convergent ? std::max(dual_area(i, j), 0.25) : 1.0; };
+
     // Trellis: the crossing at (i, j) needs its four neighbours, and (i, j) itself (the
     // crossing is a particle of the cloth, even though the angle does not depend on it).
+    // CONVERGENT: a missing neighbour is replaced by (i, j) itself (a one-sided crossing angle).
     for (int j = 0; j < grid.nv; ++j)
-        for (int i = 0; i < grid.nu; ++i)
-            if (on(i, j) && on(i - 1, j) && on(i + 1, j) && on(i, j - 1) && on(i, j + 1))
+        for (int i = 0; i < grid.nu; ++i) {
+            if (!on(i, j)) continue;
+            const int p = grid.index(i, j);
+            if (on(i - 1, j) && on(i + 1, j) && on(i, j - 1) && on(i, j + 1)) {
                 s.crossings.push_back({grid.index(i - 1, j), grid.index(i + 1, j), grid.index(i, j - 1), grid.index(i, j + 1)});
+                s.crossing_weights.push_back(weight(i, j));
+            } else if (convergent && (on(i - 1, j) || on(i + 1, j)) && (on(i, j - 1) || on(i, j + 1))) {
+                s.crossings.push_back({on(i - 1, j) ? grid.index(i - 1, j) : p, on(i + 1, j) ? grid.index(i + 1, j) : p,
+                                       on(i, j - 1) ? grid.index(i, j - 1) : p, on(i, j + 1) ? grid.index(i, j + 1) : p});
+                s.crossing_weights.push_back(weight(i, j));
+            }
+        }
+    s.particle_areas.assign(n, 0.0);
+    for (int p : s.particles) s.particle_areas[p] = convergent ? dual_area(p % grid.nu, p / grid.nu) : 1.0;
+    for (const Stencil<2>& e : s.edges) {
+        double w = 1.0;
+        if (convergent) {
+            // The cloth cells on the two sides of the segment, each half a spacing wide.
+            const int i = e[0] % grid.nu, j = e[0] / grid.nu;
+            const bool along_i = e[1] == e[0] + 1;
+            w = along_i ? 0.5 * (cell(i, j - 1) + cell(i, j)) : 0.5 * (cell(i - 1, j) + cell(i, j));
+            if (w == 0) w = 0.5;  // a thread with no cloth beside it: half a width
+        }
+        s.edge_weights.push_back(w);
+    }
+    for (const Stencil<3>& b : s.warp_bends) s.warp_weights.push_back(weight(b[1] % grid.nu, b[1] / grid.nu));
+    for (const Stencil<3>& b : s.weft_bends) s.weft_weights.push_back(weight(b[1] % grid.nu, b[1] / grid.nu));
 
     std::vector<std::vector<int>> rows(n);
     for (int p = 0; p < n; ++p) rows[p].push_back(p);

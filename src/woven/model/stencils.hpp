@@ -26,6 +26,20 @@
 
 namespace woven::model {
 
+/// How the grid stands for the continuous cloth (ModelOptions::discretization).
+///   PAPER: the paper's literal convention: every particle a full sigma x sigma patch (mass
+///     W sigma^2, edges and corners too), every term at full weight, trellis only at crossings
+///     with four neighbours. A free edge then carries half a spacing too much cloth.
+///   CONVERGENT: each particle stands for its dual cell, the part of the cloth nearer to it
+///     than to any other particle (the quarter cells of the grid cells around it that belong to
+///     the cloth): mass W x its area, so the cloth weighs W x its area; every term is weighted
+///     by the share of cloth it stands for (a bend or crossing: its dual cell's area over
+///     sigma^2, 1/2 on an edge, 1/4 at a corner; a thread segment: the cells on its two
+///     sides over 2); the crossings of edge particles are measured one-sidedly (the missing
+///     neighbour replaced by the particle itself). The discrete energy is then a
+///     second-order quadrature of the continuum's (docs/VALIDATION.md).
+enum class Discretization { PAPER, CONVERGENT };
+
 /// The particle indices of one term's stencil, in the order of the sketches above.
 template <int N> using Stencil = std::array<int, N>;
 
@@ -37,6 +51,10 @@ struct Stencils {
     std::vector<Stencil<3>> warp_bends;  ///< (i,j-1), (i,j), (i,j+1)
     std::vector<Stencil<3>> weft_bends;  ///< (i-1,j), (i,j), (i+1,j)
     std::vector<Stencil<4>> crossings;   ///< L, R, D, U around (i,j)
+    /// The share of cloth each stencil stands for (its term's weight), one per stencil of the
+    /// list of the same name, and each particle's area in units of sigma^2: all 1 for PAPER
+    /// (see Discretization).
+    std::vector<double> edge_weights, warp_weights, weft_weights, crossing_weights, particle_areas;
 
     /// The particles sharing a stencil with p, p itself included, ascending (the sparsity of
     /// the Hessian, one row of blocks per particle; an inactive particle is coupled to itself).
@@ -50,8 +68,11 @@ struct Stencils {
     std::vector<int> coupled_begin_, coupled_;  ///< compressed rows of coupled_with
 };
 
-/// The stencil lists of `grid`; `active` (one entry per particle, or empty: all active) is the mask.
-Stencils make_stencils(const Grid& grid, std::vector<char> active = {});
+/// The stencil lists of `grid`; `active` (one entry per particle, or empty: all active) is the
+/// mask. PAPER: a term exists only where its whole stencil is active. CONVERGENT: the same
+/// edges and bends, and a crossing at every active particle with an active neighbour along
+/// each thread (one-sided where one is missing); weights as Discretization says.
+Stencils make_stencils(const Grid& grid, std::vector<char> active = {}, Discretization d = Discretization::PAPER);
 
 /// For each particle, the stencils of one list that contain it and its place (role) in each.
 struct Incidence {

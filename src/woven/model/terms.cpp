@@ -126,7 +126,8 @@ Local<2> StretchTerm::evaluate(const VecN<6>& x, Derivatives what) const
 {
     const Vec3 d = x.head<3>() - x.tail<3>();
     const double r = d.norm();
-    if (r <= spacing_.sigma) return vanishing_pair();
+    if (r <= spacing_.sigma && !(spacing_.tensile > 0)) return vanishing_pair();  // the paper's well: tension only
+    if (r == 0) return pair_local(Scalar3{0.5 * spacing_.tensile * spacing_.sigma * spacing_.sigma, 0, 0}, Vec3::UnitX(), 1.0, what);
     return pair_local(spacing_.stretch(r), d, r, what);
 }
 

@@ -174,6 +174,22 @@ private:
     const TrellisEnergy& energy_;
 };
 
+/// A term's local value and derivatives times a weight (the share of cloth its stencil stands
+/// for, stencils.hpp).
+template <int N> void scale_local(Local<N>& l, double w)
+{
+    l.value *= w;
+    if (l.vanishes) return;
+    l.gradient *= w;
+    l.hessian *= w;
+}
+inline void scale_local(ParticleLocal& l, double w)
+{
+    l.value *= w;
+    l.gradient *= w;
+    l.hessian *= w;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Local to global: a sink receives each stencil's local derivatives and scatters them.
 

@@ -91,7 +91,7 @@ public:
     void set_pairs(const std::vector<model::Stencil<2>>& close)
     {
         links_.clear();
-        for (const auto& [p, q] : stencils_.edges) add_link(p, q, true);
+        for (std::size_t k = 0; k < stencils_.edges.size(); ++k) add_link(stencils_.edges[k][0], stencils_.edges[k][1], true, stencils_.edge_weights[k]);
         for (int p = 0; p < n_; ++p)
             for (int q : stencils_.coupled_with(p))
                 if (q > p) add_link(p, q, false);
@@ -126,19 +126,21 @@ private:
     struct Link {
         int p, q;
         bool thread;  ///< an edge: stretching as well as repulsion
+        double weight = 1.0;  ///< the edge's share of cloth (stencils.hpp)
     };
-    void add_link(int p, int q, bool thread)
+    void add_link(int p, int q, bool thread, double weight = 1.0)
     {
-        links_.push_back({p, q, thread});
-        links_.push_back({q, p, thread});
+        links_.push_back({p, q, thread, weight});
+        links_.push_back({q, p, thread, weight});
     }
 
     template <bool kDerivatives> double terms(const Positions& x, int p, Vec3* g, Mat3* H) const
     {
         constexpr model::Derivatives what = kDerivatives ? model::Derivatives::PROJECTED : model::Derivatives::NONE;
         double e = 0;
-        auto add = [&](const model::ParticleLocal& l) {
+        auto add = [&](model::ParticleLocal l, double w = 1.0) {
             if (!std::isfinite(l.value)) return false;
+            if (w != 1.0) model::scale_local(l, w);  // the stencil's share of cloth (stencils.hpp)
             e += l.value;
             if constexpr (kDerivatives) {
                 *g += l.gradient;
@@ -151,17 +153,17 @@ private:
             const Link& l = links_[k];
             VecN<6> pair;
             pair << x[p], x[l.q];
-            if (l.thread && !add(stretch_.particle(pair, 0, what))) return kInfinity;
+            if (l.thread && !add(stretch_.particle(pair, 0, what), l.weight)) return kInfinity;
             if (!add(repulsion_.particle(pair, 0, what))) return kInfinity;
         }
         // Bending (Eq. 7, 12, 13) of the angles p belongs to, and trellising (Eq. 8, 15) of the
         // crossings p is a neighbour of; `role` is p's place in the stencil.
         for (const auto& [k, role] : warp_of_.of(p))
-            if (!add(warp_.particle(model::gather<3>(x, stencils_.warp_bends[k]), role, what))) return kInfinity;
+            if (!add(warp_.particle(model::gather<3>(x, stencils_.warp_bends[k]), role, what), stencils_.warp_weights[k])) return kInfinity;
         for (const auto& [k, role] : weft_of_.of(p))
-            if (!add(weft_.particle(model::gather<3>(x, stencils_.weft_bends[k]), role, what))) return kInfinity;
+            if (!add(weft_.particle(model::gather<3>(x, stencils_.weft_bends[k]), role, what), stencils_.weft_weights[k])) return kInfinity;
         for (const auto& [k, role] : crossings_of_.of(p))
-            if (!add(trellis_.particle(model::gather<4>(x, stencils_.crossings[k]), role, what))) return kInfinity;
+            if (!add(trellis_.particle(model::gather<4>(x, stencils_.crossings[k]), role, what), stencils_.crossing_weights[k])) return kInfinity;
         return e;
     }
 

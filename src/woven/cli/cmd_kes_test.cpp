@@ -1,0 +1,404 @@
+// woven kes-test FABRIC: the virtual instruments (testers/) run on the model: the cantilever
+// (ASTM D1388), KES-FB2 pure bending and KES-FB1 shear, each a static simulation of a specimen
+// of the model's particles, against the fabric's input values.
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "woven/cli/commands.hpp"
+#include "woven/common/error.hpp"
+#include "woven/common/units.hpp"
+#include "woven/io/fabric_file.hpp"
+#include "woven/io/output.hpp"
+#include "woven/render/image.hpp"
+#include "woven/render/plot.hpp"
+#include "woven/testers/cantilever.hpp"
+#include "woven/testers/kes_bending.hpp"
+#include "woven/testers/kes_shear.hpp"
+
+namespace woven::cli {
+
+/// Options of `woven kes-test` (kept as text where a bad value needs the one-line error).
+struct KesTestOptions {
+    std::string fabric;
+    std::string test = "all";
+    std::string direction = "both";
+    std::optional<std::string> sigma_cm;
+    std::optional<std::string> bending_form;
+    std::optional<std::string> discretization;
+    std::optional<std::string> out;
+    bool convergence = false;
+};
+
+namespace {
+
+constexpr double kDefaultCantileverSigmaCm = 0.25;
+constexpr double kDefaultBendingSigmaCm = 0.1;
+constexpr double kDefaultShearSigmaCm = 0.25;
+
+std::string fmt(double v, int digits = 6)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+}
+
+double parse_sigma(const std::string& text)
+{
+    std::size_t used = 0;
+    double v = 0;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || !std::isfinite(v) || !(v >= 0.02 && v <= 2.0))
+        throw InputError("--sigma-cm", "", "expected a particle spacing in cm between 0.02 and 2, got '" + text + "'");
+    return v;
+}
+
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+/// One line of the table and one entry of kes-report.json.
+struct Row {
+    std::string test, direction, unit;
+    double sigma_m = 0, input = 0, simulated = 0, rel = 0, curve = 0;
+    std::optional<double> bending_length_m, elastica_bending_length_m;
+    int solves_or_iterations = 0;
+};
+
+std::string curve_csv(const testers::KesCurveResult& r, const std::string& x_name, const std::string& y_name)
+{
+    std::ostringstream s;
+    s.precision(10);
+    s << x_name << ",simulated_" << y_name << ",input_" << y_name << "\n";
+    for (std::size_t k = 0; k < r.x.size(); ++k) s << r.x[k] << "," << r.y[k] << "," << r.y_input[k] << "\n";
+    return s.str();
+}
+
+render::Image curve_plot(const std::string& title, const std::string& x_label, const std::string& y_label,
+                         const std::vector<testers::KesCurveResult>& results, const kes::FabricData& fabric, bool bending)
+{
+    render::Plot p;
+    p.title = title;
+    p.x_label = x_label;
+    p.y_label = y_label;
+    for (const auto& r : results) {
+        const kes::Curve& in = bending ? testers::input_bending(fabric, r.direction) : fabric.shear.curve;
+        render::Series data;
+        data.x = in.x;
+        data.y = in.y;
+        data.style = render::Series::Style::POINTS;
+        data.label = "input " + (bending ? testers::to_string(r.direction) : std::string("curve"));
+        render::Series sim;
+        sim.x = r.x;
+        sim.y = r.y;
+        sim.style = render::Series::Style::LINE_AND_POINTS;
+        sim.label = "simulated " + testers::to_string(r.direction);
+        if (bending || &r == &results.front()) p.series.push_back(data);
+        p.series.push_back(sim);
+    }
+    return render::plot(p, 900, 620);
+}
+
+/// Shape error of the simulated strip against the elastica: max |z_sim - z_el(s)| over the
+/// strip's rows, relative to the elastica's tip drop.
+double shape_error(const testers::CantileverShape& sim, const testers::ElasticaSolution& el, double clamp_z)
+{
+    double e = 0;
+    for (std::size_t a = 2; a < sim.z.size(); ++a) {
+        const double s = (static_cast<double>(a) - 0.5) * sim.sigma;
+        const double t = std::min(s, el.s.back()) / el.s.back() * (el.s.size() - 1);
+        const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(t), el.s.size() - 2);
+        const double f = t - k;
+        const double z_el = el.z[k] + f * (el.z[k + 1] - el.z[k]);
+        e = std::max(e, std::abs((sim.z[a] - clamp_z) - z_el) / el.tip_drop);
+    }
+    return e;
+}
+
+void write_png_atomic(const render::Image& image, const std::string& path)
+{
+    const std::string tmp = path + ".tmp";
+    render::write_png(image, tmp);
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) throw RuntimeError("cannot write " + path + ": " + ec.message());
+}
+
+/// The cantilever's convergence study: at overhangs L/c = 1 .. 3 (c the elastica's bending
+/// length), the bending length from the tip chord angle (converted with the linear elastica,
+/// testers::bending_length_from_chord) of the simulated strip and of the exact elastica of the
+/// input curve, at spacings S, S/2, S/4; the observed order between successive spacings.
+nlohmann::json cantilever_convergence(const kes::FabricData& fabric, testers::Direction d, const testers::CantileverOptions& base,
+                                      const model::ModelOptions& mo)
+{
+    const double g = mo.gravity > 0 ? mo.gravity : units::kStandardGravity;
+    const double w = testers::weight_per_area(fabric, g);
+    const testers::CurvatureOfMoment law = testers::fabric_curvature_law(fabric, d, model::BendingForm::WORK, mo.gram_force);
+    const double c = 0.5 * testers::elastica_overhang_for_chord_angle(testers::kPeirceChordAngle, w, law);
+    nlohmann::json rows = nlohmann::json::array();
+    std::printf("cantilever convergence, %s: c = %.5g cm (elastica, 41.5 degree chord)\n", testers::to_string(d).c_str(),
+                c * units::kMToCm);
+    std::printf("%6s %10s %12s %12s %10s %7s\n", "L/c", "sigma_cm", "c_sim_cm", "c_exact_cm", "rel_err", "order");
+    for (double ratio : {1.0, 1.5, 2.0, 2.5, 3.0}) {
+        const double L = ratio * c;
+        const testers::ElasticaSolution el = testers::cantilever_elastica(L, w, law);
+        const double c_exact = testers::bending_length_from_chord(L, el.chord_angle);
+        double prev_err = 0, prev_sigma = 0;
+        for (int level = 0; level < 3; ++level) {
+            testers::CantileverOptions o = base;
+            o.sigma = base.sigma / (1 << level);
+            const testers::CantileverShape sh = testers::cantilever_at_overhang(fabric, d, L, o);
+            const double c_sim = testers::bending_length_from_chord(L, sh.chord_angle);
+            const double err = (c_sim - c_exact) / c_exact;
+            double order = NAN;
+            if (level > 0 && err != 0 && prev_err != 0) order = std::log(std::abs(prev_err / err)) / std::log(prev_sigma / sh.sigma);
+            std::printf("%6.2f %10.5g %12.6g %12.6g %+9.4f%% %7.3g\n", ratio, sh.sigma * units::kMToCm, c_sim * units::kMToCm,
+                        c_exact * units::kMToCm, 100 * err, order);
+            rows.push_back({{"direction", testers::to_string(d)},
+                            {"overhang_ratio", ratio},
+                            {"sigma_m", sh.sigma},
+                            {"bending_length_m", c_sim},
+                            {"elastica_bending_length_m", c_exact},
+                            {"rel_error", err},
+                            {"order", finite_or_null(order)}});
+            prev_err = err;
+            prev_sigma = sh.sigma;
+        }
+    }
+    return rows;
+}
+
+}  // namespace
+
+int run_kes_test(const KesTestOptions& options)
+{
+    // Everything is checked before anything runs or is written.
+    const bool run_cantilever = options.test == "all" || options.test == "cantilever";
+    const bool run_bending = options.test == "all" || options.test == "bending";
+    const bool run_shear = options.test == "all" || options.test == "shear";
+    if (!run_cantilever && !run_bending && !run_shear)
+        throw InputError("--test", "", "expected cantilever, bending, shear or all, got '" + options.test + "'");
+    if (options.convergence && !run_cantilever)
+        throw InputError("--convergence", "", "is a study of the cantilever test; use it with --test cantilever or all");
+    std::vector<testers::Direction> directions;
+    if (options.direction == "warp" || options.direction == "both") directions.push_back(testers::Direction::WARP);
+    if (options.direction == "weft" || options.direction == "both") directions.push_back(testers::Direction::WEFT);
+    if (directions.empty()) throw InputError("--direction", "", "expected warp, weft or both, got '" + options.direction + "'");
+    const std::optional<double> sigma_cm = options.sigma_cm ? std::optional<double>(parse_sigma(*options.sigma_cm)) : std::nullopt;
+    model::ModelOptions mo;
+    if (options.bending_form) {
+        if (*options.bending_form == "work")
+            mo.bending_form = model::BendingForm::WORK;
+        else if (*options.bending_form == "secant")
+            mo.bending_form = model::BendingForm::SECANT;
+        else
+            throw InputError("--bending-form", "", "expected work or secant, got '" + *options.bending_form + "'");
+    }
+    if (options.discretization) {
+        if (*options.discretization == "convergent")
+            mo.discretization = model::Discretization::CONVERGENT;
+        else if (*options.discretization == "paper")
+            mo.discretization = model::Discretization::PAPER;
+        else
+            throw InputError("--discretization", "", "expected convergent or paper, got '" + *options.discretization + "'");
+    }
+    if (options.out && options.out->empty()) throw InputError("--out", "", "expected a directory, got an empty path");
+    std::vector<std::string> warnings;
+    const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
+    print_warnings(warnings);
+    std::string name = fabric.name.empty() ? std::filesystem::path(options.fabric).stem().string() : fabric.name;
+    std::string safe;
+    for (char c : name) safe += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
+    const std::string dir = options.out ? *options.out : join_path("out", "kes-" + safe);
+
+    const double gf_cm2_per_cm = units::newton_per_gram_force(mo.gram_force) * units::kCmToM;  // N m per gf.cm2/cm
+    std::vector<Row> rows;
+    std::vector<std::pair<std::string, std::string>> csv;  // name, contents
+    std::vector<std::pair<std::string, render::Image>> png;
+
+    if (run_cantilever) {
+        testers::CantileverOptions co;
+        co.sigma = (sigma_cm ? *sigma_cm : kDefaultCantileverSigmaCm) * units::kCmToM;
+        co.model = mo;
+        render::Plot p;
+        p.title = "Cantilever (ASTM D1388), " + name + ": strip at the 41.5 degree chord";
+        p.x_label = "along the strip (cm)";
+        p.y_label = "height (cm)";
+        for (testers::Direction d : directions) {
+            const testers::CantileverResult r = testers::cantilever_test(fabric, d, co);
+            Row row;
+            row.test = "cantilever";
+            row.direction = testers::to_string(d);
+            row.unit = "gf.cm2/cm";
+            row.sigma_m = r.shape.sigma;
+            row.input = r.elastica_flexural_rigidity / gf_cm2_per_cm;
+            row.simulated = r.flexural_rigidity / gf_cm2_per_cm;
+            row.rel = (r.bending_length - r.elastica_bending_length) / r.elastica_bending_length;
+            row.curve = shape_error(r.shape, r.elastica, 0.5 * (r.shape.z[0] + r.shape.z[1]));
+            row.bending_length_m = r.bending_length;
+            row.elastica_bending_length_m = r.elastica_bending_length;
+            row.solves_or_iterations = r.solves;
+            rows.push_back(row);
+            std::ostringstream s;
+            s.precision(10);
+            s << "source,s_m,x_m,z_m\n";
+            for (std::size_t a = 0; a < r.shape.x.size(); ++a)
+                s << "simulated," << (a - 0.5) * r.shape.sigma << "," << r.shape.x[a] << "," << r.shape.z[a] << "\n";
+            for (std::size_t k = 0; k < r.elastica.s.size(); k += 10)
+                s << "elastica," << r.elastica.s[k] << "," << r.elastica.x[k] << "," << r.elastica.z[k] << "\n";
+            csv.emplace_back("cantilever_" + row.direction + ".csv", s.str());
+            render::Series sim, el;
+            for (std::size_t a = 0; a < r.shape.x.size(); ++a) {
+                sim.x.push_back(r.shape.x[a] * units::kMToCm);
+                sim.y.push_back(r.shape.z[a] * units::kMToCm);
+            }
+            for (std::size_t k = 0; k < r.elastica.s.size(); k += 10) {
+                el.x.push_back(r.elastica.x[k] * units::kMToCm);
+                el.y.push_back(r.elastica.z[k] * units::kMToCm);
+            }
+            sim.style = render::Series::Style::POINTS;
+            sim.label = "simulated " + row.direction + " (c " + fmt(r.bending_length * units::kMToCm, 4) + " cm)";
+            el.label = "elastica " + row.direction + " (c " + fmt(r.elastica_bending_length * units::kMToCm, 4) + " cm)";
+            p.series.push_back(el);
+            p.series.push_back(sim);
+        }
+        png.emplace_back("cantilever.png", render::plot(p, 900, 620));
+    }
+    auto kes_rows = [&](const std::vector<testers::KesCurveResult>& results, const std::string& unit) {
+        for (const auto& r : results) {
+            Row row;
+            row.test = r.test;
+            row.direction = testers::to_string(r.direction);
+            row.unit = unit;
+            row.sigma_m = r.sigma;
+            row.input = r.input_summary;
+            row.simulated = r.simulated_summary;
+            row.rel = r.summary_rel_error;
+            row.curve = r.curve_max_rel_error;
+            row.solves_or_iterations = r.iterations;
+            rows.push_back(row);
+        }
+    };
+    if (run_bending) {
+        testers::BendingTestOptions bo;
+        bo.sigma = (sigma_cm ? *sigma_cm : kDefaultBendingSigmaCm) * units::kCmToM;
+        bo.model = mo;
+        std::vector<testers::KesCurveResult> results;
+        for (testers::Direction d : directions) {
+            results.push_back(testers::kes_bending_test(fabric, d, bo));
+            csv.emplace_back("bending_" + testers::to_string(d) + ".csv", curve_csv(results.back(), "K_per_cm", "M_gf_cm_per_cm"));
+        }
+        kes_rows(results, "gf.cm2/cm");
+        png.emplace_back("bending.png",
+                         curve_plot("KES-FB2 pure bending, " + name, "curvature K (1/cm)", "moment M (gf.cm/cm)", results, fabric, true));
+    }
+    if (run_shear) {
+        testers::ShearTestOptions so;
+        so.sigma = (sigma_cm ? *sigma_cm : kDefaultShearSigmaCm) * units::kCmToM;
+        so.model = mo;
+        std::vector<testers::KesCurveResult> results;
+        for (testers::Direction d : directions) {
+            results.push_back(testers::kes_shear_test(fabric, d, so));
+            csv.emplace_back("shear_" + testers::to_string(d) + ".csv", curve_csv(results.back(), "phi_deg", "F_gf_per_cm"));
+        }
+        kes_rows(results, "gf/(cm.deg)");
+        png.emplace_back("shear.png", curve_plot("KES-FB1 shear, " + name, "shear angle (deg)", "force F (gf/cm)", results, fabric, false));
+    }
+
+    nlohmann::json convergence = nlohmann::json::array();
+    if (options.convergence) {
+        testers::CantileverOptions co;
+        co.sigma = (sigma_cm ? *sigma_cm : 2 * kDefaultCantileverSigmaCm) * units::kCmToM;
+        co.model = mo;
+        for (testers::Direction d : directions)
+            for (auto& row : cantilever_convergence(fabric, d, co, mo)) convergence.push_back(row);
+    }
+
+    // Table.
+    std::cout << "fabric " << name << " (bending form " << (mo.bending_form == model::BendingForm::WORK ? "work" : "secant")
+              << ", discretization " << (mo.discretization == model::Discretization::PAPER ? "paper" : "convergent") << ")\n";
+    std::printf("%-10s %-5s %8s %12s %12s %9s %9s  %s\n", "test", "dir", "sigma_cm", "input", "simulated", "rel_err", "curve_err", "unit");
+    for (const Row& r : rows)
+        std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", r.test.c_str(), r.direction.c_str(), r.sigma_m * units::kMToCm,
+                    r.input, r.simulated, 100 * r.rel, 100 * r.curve, r.unit.c_str());
+    std::cout << "cantilever: input = the exact elastica's flexural rigidity W g c^3 for the input curve, rel_err = bending length vs the "
+                 "elastica's, curve_err = largest shape difference / tip drop; bending, shear: input = the file's B, G (or its curve's KES "
+                 "slope), curve_err = largest relative difference from the input curve over 0.5..2.5 1/cm, 0.5..8 deg\n";
+
+    // Files: staged atomically, kes-report.json last.
+    nlohmann::json report = {{"version", WOVEN_VERSION},
+                             {"command", "kes-test"},
+                             {"fabric", name},
+                             {"fabric_source", options.fabric},
+                             {"bending_form", mo.bending_form == model::BendingForm::WORK ? "work" : "secant"},
+                             {"discretization", mo.discretization == model::Discretization::PAPER ? "paper" : "convergent"}};
+    nlohmann::json tests = nlohmann::json::array();
+    for (const Row& r : rows) {
+        nlohmann::json t = {{"test", r.test},
+                            {"direction", r.direction},
+                            {"sigma_m", finite_or_null(r.sigma_m)},
+                            {"unit", r.unit},
+                            {"input_summary", finite_or_null(r.input)},
+                            {"simulated_summary", finite_or_null(r.simulated)},
+                            {"summary_rel_error", finite_or_null(r.rel)},
+                            {"curve_max_rel_error", finite_or_null(r.curve)}};
+        if (r.bending_length_m) {
+            t["bending_length_m"] = finite_or_null(*r.bending_length_m);
+            t["elastica_bending_length_m"] = finite_or_null(*r.elastica_bending_length_m);
+        }
+        tests.push_back(t);
+    }
+    report["tests"] = tests;
+    if (options.convergence) report["cantilever_convergence"] = convergence;
+    make_output_dir(dir);
+    std::vector<std::string> files;
+    for (const auto& [f, text] : csv) {
+        io::write_file_atomic(join_path(dir, f), text);
+        files.push_back(f);
+    }
+    for (const auto& [f, image] : png) {
+        write_png_atomic(image, join_path(dir, f));
+        files.push_back(f);
+    }
+    files.push_back("kes-report.json");
+    report["files"] = files;
+    io::write_file_atomic(join_path(dir, "kes-report.json"), report.dump(2) + "\n");
+    std::cout << "wrote " << files.size() << " files to " << dir << "\n";
+    return kExitOk;
+}
+
+void add_kes_test_command(CLI::App& app, int& exit_code)
+{
+    auto options = std::make_shared<KesTestOptions>();
+    CLI::App* sub = app.add_subcommand("kes-test", "Run the virtual cantilever, KES-FB2 bending and KES-FB1 shear tests on the model");
+    sub->footer("Each test is a static simulation of a specimen of the model's particles (docs/VALIDATION.md says how each maps onto the "
+                "grid). Prints input vs simulated summary values and writes to --out (default out/kes-<name>): <test>_<direction>.csv, "
+                "cantilever.png, bending.png, shear.png and kes-report.json (list 'tests': test, direction, sigma_m, input_summary, "
+                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m).");
+    sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")->required();
+    sub->add_option("--test", options->test, "cantilever, bending, shear or all")->capture_default_str();
+    sub->add_option("--direction", options->direction, "warp, weft or both")->capture_default_str();
+    sub->add_option("--sigma-cm", options->sigma_cm,
+                    "Particle spacing of the specimens, cm (default: cantilever 0.25, bending 0.1, shear 0.25)");
+    sub->add_option("--bending-form", options->bending_form, "work or secant (default: the model's, work)");
+    sub->add_option("--discretization", options->discretization, "convergent or paper (default: the model's, convergent)");
+    sub->add_option("--out", options->out, "Output directory (default out/kes-<name>)");
+    sub->add_flag("--convergence", options->convergence,
+                  "Also the cantilever's grid convergence: bending length vs the exact elastica at L/c = 1..3 and spacings S, S/2, S/4 "
+                  "(S = --sigma-cm, default 0.5), with the observed order (in kes-report.json: cantilever_convergence)");
+    sub->callback([options, &exit_code] { exit_code = run_kes_test(*options); });
+}
+
+}  // namespace woven::cli

@@ -1,0 +1,106 @@
+#include "woven/testers/kes_shear.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "woven/common/error.hpp"
+#include "woven/common/units.hpp"
+#include "woven/testers/instrument_model.hpp"
+
+namespace woven::testers {
+
+KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, const ShearTestOptions& options)
+{
+    if (!(options.sigma > 0) || !(options.gap > 0) || !(options.length > 0))
+        throw InputError("kes shear", "sigma", "expected positive spacing, gap and length");
+    if (!(options.step > 0) || !(options.max_angle >= kes::instrument::kShearSlopeTo) || options.max_angle >= 60)
+        throw InputError("kes shear", "max_angle", "expected a positive step and a range covering the G window");
+    if (!(options.pretension >= 0)) throw InputError("kes shear", "pretension", "expected a non-negative pre-tension in gf/cm");
+    Layout layout;
+    layout.direction = dir;
+    const int N = std::max(2, static_cast<int>(std::lround(options.gap / options.sigma)));
+    layout.sigma = options.gap / N;
+    layout.n_across = N + 1;
+    layout.n_along = std::max(2, static_cast<int>(std::lround(options.length / layout.sigma)) + 1);
+    const double length = (layout.n_along - 1) * layout.sigma;
+    const double area = length * N * layout.sigma;
+    const model::ClothModel model = instrument_model(fabric, layout.grid(), options.model, /*gravity=*/false);
+    const double newton_per_gf = units::newton_per_gram_force(options.model.gram_force);
+    const double gf_per_cm = newton_per_gf * units::kMToCm;  // 1 gf/cm in N/m
+
+    // Residuals against the pre-tension a crossing thread carries (much above its weight).
+    StaticOptions solve = options.solve;
+    if (!(solve.reference_force > 0)) solve.reference_force = std::max(options.pretension, 1.0) * gf_per_cm * layout.sigma;
+    std::vector<char> fixed(layout.grid().size(), 0);
+    for (int a = 0; a < layout.n_along; ++a) fixed[layout.index(a, 0)] = fixed[layout.index(a, N)] = 1;
+
+    KesCurveResult r;
+    r.test = "shear";
+    r.direction = dir;
+    r.sigma = layout.sigma;
+    r.compare_from = kes::instrument::kShearSlopeFrom;
+    r.compare_to = options.max_angle;
+
+    Positions x(layout.grid().size());
+    auto place = [&](double sep, double phi) {
+        const double c = sep / N;
+        for (int a = 0; a < layout.n_along; ++a)
+            for (int b = 0; b <= N; ++b)
+                x[layout.index(a, b)] = Vec3(a * layout.sigma - 0.5 * length + b * c * std::sin(phi), b * c * std::cos(phi), 0.0);
+    };
+    // Normal reaction on the moving clamp (N) at separation sep, phi = 0.
+    auto tension = [&](double sep) {
+        place(sep, 0.0);
+        const StaticResult eq = solve_static(model, x, fixed, solve);
+        if (!eq.converged) throw RuntimeError("kes shear: the static solve did not converge at the pre-tension");
+        r.iterations += eq.iterations;
+        const Eigen::VectorXd g = model.gradient(eq.x);
+        double f = 0;
+        for (int a = 0; a < layout.n_along; ++a) f += g[3 * layout.index(a, N) + 1];
+        return f / length;  // N/m
+    };
+    // Pre-tension: the separation whose crossing threads carry the target tension. The stretch
+    // force grows as a power of the strain; iterate on that power (secant in log-log).
+    const double target = options.pretension * gf_per_cm;
+    const double rest = N * layout.sigma;
+    double sep = rest;
+    if (target > 0) {
+        double e0 = 1e-3, f0 = tension(rest * (1 + e0));
+        double e1 = 2e-3, f1 = tension(rest * (1 + e1));
+        for (int it = 0; it < 40 && std::abs(f1 - target) > 1e-6 * target; ++it) {
+            const double p = (f1 > 0 && f0 > 0 && f1 != f0) ? std::log(f1 / f0) / std::log(e1 / e0) : 1.0;
+            const double e2 = e1 * std::pow(target / std::max(f1, 1e-300), 1.0 / std::max(p, 0.5));
+            e0 = e1, f0 = f1;
+            e1 = std::clamp(e2, 1e-9, 0.2);
+            f1 = tension(rest * (1 + e1));
+        }
+        if (std::abs(f1 - target) > 1e-4 * target) throw RuntimeError("kes shear: the pre-tension could not be set");
+        sep = rest * (1 + e1);
+    }
+
+    const kes::CurveFit fit = fitted_shear(fabric);
+    const int steps = static_cast<int>(std::lround(options.max_angle / options.step));
+    for (int k = 0; k <= steps; ++k) {
+        const double phi_deg = k * options.max_angle / steps;
+        const double phi = phi_deg * units::kDegToRad;
+        place(sep, phi);
+        const StaticResult eq = solve_static(model, x, fixed, solve);
+        if (!eq.converged)
+            throw RuntimeError("kes shear: the static solve did not converge at phi = " + std::to_string(phi_deg) + " degrees");
+        r.iterations += eq.iterations;
+        // dE/dphi: the moving clamp's particles move by sep (cos phi, -sin phi) per radian.
+        const Eigen::VectorXd g = model.gradient(eq.x);
+        double dE = 0;
+        for (int a = 0; a < layout.n_along; ++a) {
+            const int p = layout.index(a, N);
+            dE += sep * (g[3 * p] * std::cos(phi) - g[3 * p + 1] * std::sin(phi));
+        }
+        r.x.push_back(phi_deg);
+        r.y.push_back(dE / (area * std::cos(phi)) / gf_per_cm);
+        r.y_input.push_back(fit.value(phi_deg));
+    }
+    finish_kes_result(r, input_G(fabric), kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo);
+    return r;
+}
+
+}  // namespace woven::testers

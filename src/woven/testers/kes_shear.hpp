@@ -1,0 +1,38 @@
+#pragma once
+// Virtual KES-FB1 shear test: a specimen 20 cm long (the clamps' length) and 5 cm between the
+// clamps, gravity off, one long edge held, the other moved sideways to shear angle
+// phi = 0 .. 8 degrees in steps under the standard 10 gf/cm pre-tension, at static equilibrium
+// at each step. The force per unit length is the derivative of the equilibrium energy with
+// respect to the clamp's motion; G is its KES slope between 0.5 and 5 degrees.
+//
+// How the specimen maps onto the grid: the clamps are two grid rows, each one row of particles
+// (a shear clamp holds the edge's position only), N = round(5 cm / sigma) spacings apart, with
+// round(20 cm / sigma) + 1 particles along them; the direction named is that of the threads
+// running along the clamps (the other family crosses between them). The pre-tension is
+// applied at phi = 0 as the clamp separation l' = N sigma (1 + eps) at which the crossing
+// threads carry 10 gf/cm (found by static solves); then the moving clamp turns about the
+// fixed one at that separation, to (l' sin phi, l' cos phi), as the inextensible crossing
+// threads of a taut specimen do. The reported force is the shear force of Eq. (14),
+//   F = dE/dphi / (A cos phi),  A = the specimen's rest area (20 x 5 cm^2),
+// the lateral reaction less the pre-tension's own lateral share (F_N tan phi), which the
+// paper's trellis energy (Eq. 14-15) does not contain.
+#include "woven/testers/kes_bending.hpp"
+
+namespace woven::testers {
+
+/// Settings of the FB1 test (SI unless stated).
+struct ShearTestOptions {
+    double sigma = 0.0025;      ///< nominal spacing, m
+    double length = 0.20;       ///< along the clamps, m
+    double gap = 0.05;          ///< between the clamps, m
+    double max_angle = 8.0;     ///< degrees
+    double step = 0.5;          ///< degrees
+    double pretension = 10.0;   ///< gf/cm
+    model::ModelOptions model;  ///< gravity is switched off
+    StaticOptions solve;
+};
+
+/// Runs the FB1 test with the clamps along the threads of direction `d`.
+KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction d, const ShearTestOptions& options);
+
+}  // namespace woven::testers

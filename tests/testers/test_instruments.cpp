@@ -1,0 +1,163 @@
+// The virtual instruments (testers/) on synthetic fabrics with known answers: a linear fabric's
+// B and G come back from the cantilever, KES-FB2 and KES-FB1 simulations; an anisotropic
+// fabric's warp and weft in the right order; the WORK bending form reproduces a non-linear
+// curve and the secant form does not. Small specimens keep them fast.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "woven/common/error.hpp"
+#include "woven/common/units.hpp"
+#include "woven/testers/cantilever.hpp"
+#include "woven/testers/kes_bending.hpp"
+#include "woven/testers/kes_shear.hpp"
+
+namespace woven::testers {
+namespace {
+
+/// A linear fabric: M = B K (warp, weft), F = G phi; W in mg/cm^2.
+kes::FabricData linear_fabric(double B_warp, double B_weft, double G, double W = 15.0)
+{
+    kes::FabricData f;
+    f.name = "linear";
+    f.areal_density_mg_cm2 = W;
+    for (int k = 0; k <= 25; ++k) {
+        const double K = 0.1 * k;
+        f.bending_warp.curve.x.push_back(K);
+        f.bending_warp.curve.y.push_back(B_warp * K);
+        f.bending_weft.curve.x.push_back(K);
+        f.bending_weft.curve.y.push_back(B_weft * K);
+    }
+    for (int k = 0; k <= 16; ++k) {
+        const double phi = 0.5 * k;
+        f.shear.curve.x.push_back(phi);
+        f.shear.curve.y.push_back(G * phi);
+    }
+    return f;
+}
+
+/// B in gf.cm^2/cm to EI per unit width in N m (the paper's gram-force, the model's default).
+double to_EI(double B) { return B * units::newton_per_gram_force(units::GramForce::PAPER) * units::kCmToM; }
+
+TEST(Cantilever, LinearFabricRecoversB)
+{
+    const kes::FabricData f = linear_fabric(0.1, 0.1, 1.0);
+    CantileverOptions o;
+    o.sigma = 0.00125;
+    o.width = 0.005;
+    const CantileverResult r = cantilever_test(f, Direction::WARP, o);
+    // The exact elastica's overhang of the 41.5 degree chord is 2.0004 c (Peirce: 2).
+    const double c = std::cbrt(to_EI(0.1) / weight_per_area(f, units::kStandardGravity));
+    EXPECT_NEAR(r.elastica_bending_length / c, 1.0, 5e-4);
+    // The simulated strip: bending length within 0.2 % of the elastica's, G = W g c^3 within
+    // 0.5 % of B.
+    EXPECT_NEAR(r.bending_length / r.elastica_bending_length, 1.0, 2e-3);
+    EXPECT_NEAR(r.flexural_rigidity / to_EI(0.1), 1.0, 5e-3);
+    EXPECT_NEAR(r.shape.chord_angle, kPeirceChordAngle, 1e-6);
+}
+
+TEST(Cantilever, SecondOrderConvergenceToTheElastica)
+{
+    // Tip drop at L/c = 2 against the elastica, at two spacings: the error falls by more than
+    // 2^1.8 when the spacing halves.
+    const kes::FabricData f = linear_fabric(0.1, 0.1, 1.0);
+    const double w = weight_per_area(f, units::kStandardGravity);
+    const double c = std::cbrt(to_EI(0.1) / w);
+    const ElasticaSolution el = cantilever_elastica_linear(2 * c, w, to_EI(0.1));
+    CantileverOptions o;
+    o.width = 0.004;
+    const double coarse = std::abs(cantilever_with_rows(f, Direction::WARP, 2 * c, 4, o).tip_drop / el.tip_drop - 1);
+    const double fine = std::abs(cantilever_with_rows(f, Direction::WARP, 2 * c, 8, o).tip_drop / el.tip_drop - 1);
+    const double order = std::log(coarse / fine) / std::log((8 - 0.5) / (4 - 0.5));
+    EXPECT_GT(order, 1.8) << "errors " << coarse << " " << fine;
+    EXPECT_LT(fine, 0.01);
+}
+
+TEST(KesBending, LinearFabricRecoversB)
+{
+    const kes::FabricData f = linear_fabric(0.1, 0.25, 1.0);
+    BendingTestOptions o;
+    o.sigma = 0.0005;
+    o.width = 0.01;
+    for (Direction d : {Direction::WARP, Direction::WEFT}) {
+        const KesCurveResult r = kes_bending_test(f, d, o);
+        const double B = d == Direction::WARP ? 0.1 : 0.25;
+        EXPECT_NEAR(r.input_summary, B, 1e-12);
+        EXPECT_NEAR(r.simulated_summary / B, 1.0, 5e-3) << to_string(d);
+        EXPECT_LT(r.curve_max_rel_error, 0.01) << to_string(d);
+        ASSERT_EQ(r.x.size(), 26u);
+        EXPECT_EQ(r.y.front(), 0.0);
+    }
+}
+
+TEST(KesBending, WorkFormReproducesANonlinearCurveAndTheSecantFormDoesNot)
+{
+    // M = 0.1 K + 0.03 (1 - exp(-K / 0.3)): the secant energy M K / 2 has derivative
+    // (M + K M') / 2, which is not M.
+    kes::FabricData f = linear_fabric(0.1, 0.1, 1.0);
+    for (std::size_t k = 0; k < f.bending_warp.curve.x.size(); ++k)
+        f.bending_warp.curve.y[k] += 0.03 * (1 - std::exp(-f.bending_warp.curve.x[k] / 0.3));
+    BendingTestOptions o;
+    o.sigma = 0.0005;
+    o.width = 0.01;
+    o.model.bending_form = model::BendingForm::WORK;
+    const KesCurveResult work = kes_bending_test(f, Direction::WARP, o);
+    EXPECT_LT(work.curve_max_rel_error, 0.02);
+    EXPECT_NEAR(work.summary_rel_error, 0.0, 0.01);
+    o.model.bending_form = model::BendingForm::SECANT;
+    const KesCurveResult secant = kes_bending_test(f, Direction::WARP, o);
+    EXPECT_GT(secant.curve_max_rel_error, 0.05);
+    EXPECT_GT(std::abs(secant.summary_rel_error), 0.03);
+}
+
+TEST(KesShear, LinearFabricRecoversG)
+{
+    const kes::FabricData f = linear_fabric(0.1, 0.1, 1.3);
+    ShearTestOptions o;
+    o.sigma = 0.01;  // G -0.23 % here (-0.44 % at 0.5 cm, -0.73 % at 0.25 cm: docs/VALIDATION.md)
+    for (Direction d : {Direction::WARP, Direction::WEFT}) {
+        const KesCurveResult r = kes_shear_test(f, d, o);
+        EXPECT_NEAR(r.simulated_summary / 1.3, 1.0, 5e-3) << to_string(d);
+        EXPECT_LT(r.curve_max_rel_error, 0.01) << to_string(d);
+        ASSERT_EQ(r.x.size(), 17u);
+        EXPECT_NEAR(r.y.front(), 0.0, 1e-9);
+    }
+}
+
+TEST(Instruments, AnisotropicFabricInTheRightOrder)
+{
+    // Weft 2.5 times stiffer in bending than warp: the weft strip's bending length is longer by
+    // 2.5^(1/3) and its FB2 B larger by 2.5.
+    const kes::FabricData f = linear_fabric(0.08, 0.2, 1.0);
+    CantileverOptions co;
+    co.sigma = 0.0025;
+    co.width = 0.005;
+    const double c_warp = cantilever_test(f, Direction::WARP, co).bending_length;
+    const double c_weft = cantilever_test(f, Direction::WEFT, co).bending_length;
+    EXPECT_GT(c_weft, c_warp);
+    EXPECT_NEAR(c_weft / c_warp, std::cbrt(2.5), 0.01);
+    BendingTestOptions bo;
+    bo.sigma = 0.001;
+    bo.width = 0.01;
+    const double B_warp = kes_bending_test(f, Direction::WARP, bo).simulated_summary;
+    const double B_weft = kes_bending_test(f, Direction::WEFT, bo).simulated_summary;
+    EXPECT_GT(B_weft, B_warp);
+    EXPECT_NEAR(B_weft / B_warp, 2.5, 0.01);
+}
+
+TEST(Instruments, RejectBadSettings)
+{
+    const kes::FabricData f = linear_fabric(0.1, 0.1, 1.0);
+    CantileverOptions co;
+    co.sigma = 0;
+    EXPECT_THROW(cantilever_test(f, Direction::WARP, co), InputError);
+    BendingTestOptions bo;
+    bo.max_curvature = 1.0;  // does not cover the B window
+    EXPECT_THROW(kes_bending_test(f, Direction::WARP, bo), InputError);
+    ShearTestOptions so;
+    so.sigma = -1;
+    EXPECT_THROW(kes_shear_test(f, Direction::WARP, so), InputError);
+}
+
+}  // namespace
+}  // namespace woven::testers
