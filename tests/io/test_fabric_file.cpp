@@ -92,20 +92,9 @@ TEST(FabricFile, SynthesisedCurvesReproduceBAndG)
             EXPECT_NEAR(bending_slope(m->curve), m->summary->B, 0.02 * m->summary->B);
         }
         if (f.shear.summary) {
-            // The synthesised curve is the loading branch F = G phi + h(phi)(1 - exp(-phi/0.1)) with
-            // the half hysteresis width h linear from 2HG/2 at 0.5 deg to 2HG5/2 at 5 deg
-            // (kes::synthesize_shear_curve): its slope over the G window is G + (2HG5 - 2HG)/9.
-            const auto& s = *f.shear.summary;
-            const double loading = s.G + (s.two_HG5 - s.two_HG) / 9.0;
-            EXPECT_NEAR(shear_slope(f.shear.curve), loading, 0.02 * loading);
-            // The mean of the branches (loading minus h) has slope G.
-            const kes::Curve& c = f.shear.curve;
-            kes::Curve mean = c;
-            for (size_t k = 0; k < c.x.size(); ++k) {
-                const double h = std::max(0.0, 0.5 * s.two_HG + 0.5 * (s.two_HG5 - s.two_HG) * (c.x[k] - 0.5) / 4.5);
-                mean.y[k] -= h * (1.0 - std::exp(-c.x[k] / 0.1));
-            }
-            EXPECT_NEAR(shear_slope(mean), s.G, 0.02 * s.G);
+            // kes::synthesize_shear_curve keeps G as the loading branch's slope over the G window
+            // (docs/FABRIC-FORMAT.md: the hysteresis widening from 2HG to 2HG5 is given up).
+            EXPECT_NEAR(shear_slope(f.shear.curve), f.shear.summary->G, 0.02 * f.shear.summary->G);
         }
     }
 }

@@ -143,7 +143,7 @@ TEST(SceneBounds, ImplausibleNumbersAreBadInputNamingTheField)
         {"[cloth]\nsize_m = [1, 1]\ngrid = [11, 11]\nheight_m = 9.2e18\n[[obstacle]]\ntype = \"plane\"\n",
          "s.toml: cloth.height_m: expected a number in [-1000, 1000] m, got 9.2e+18"},
         {scene("", "contact_distance_m = 1e300\n"), "s.toml: solver.contact_distance_m: expected a positive number in (0, 1] m, got 1e+300"},
-        {scene("", "contact_distance_m = 0.5\n"), "s.toml: solver.contact_distance_m: expected at most 0.5 sigma = 0.05 m, got 0.5"},
+        {scene("", "contact_distance_m = 0.5\n"), "s.toml: solver.contact_distance_m: expected at most 1 sigma = 0.1 m, got 0.5"},
         {scene("", "time_step_s = 1e300\n"), "s.toml: solver.time_step_s: expected a positive number in (0, 10] s, got 1e+300"},
         {scene("", "", "[[obstacle]]\ntype = \"sphere\"\ncentre_m = [0, 0, 1e300]\nradius_m = 0.1\n"),
          "s.toml: obstacle[2].centre_m: expected a number in [-1000, 1000] m, got 1e+300"},

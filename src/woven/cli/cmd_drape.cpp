@@ -101,14 +101,14 @@ int run_drape(const DrapeOptions& options)
 
     // 3. Drape.
     install_interrupt_handler();
-    const int max_steps = scene.solver.max_steps > 0 ? scene.solver.max_steps
-                          : scene.solver.kind == sim::SolverKind::FAST ? 400
-                                                                        : 200000;
+    const int max_steps = scene.solver.max_steps > 0 ? scene.solver.max_steps : sim::default_max_steps(scene.solver.kind);
     Progress progress(max_steps, scene.solver.residual_tolerance);
     std::cerr << "woven: draping " << scene.name << " (" << grid.nu << " x " << grid.nv << " particles, fabric "
               << (fabric.name.empty() ? scene.fabric : fabric.name) << ", "
               << (scene.solver.kind == sim::SolverKind::FAST ? "fast" : "paper") << " solver)\n";
-    sim::Result result = sim::drape(problem, scene.solver, [&progress](const sim::StepInfo& s) { return progress(s); });
+    sim::Result result =
+        sim::drape(problem, scene.solver, [&progress](const sim::StepInfo& s) { return progress(s); },
+                   [&progress](const sim::IterationInfo& i) { return progress.iteration(i); });
     progress.finish();
     bool interrupted = interrupt_requested() || result.interrupted;
 

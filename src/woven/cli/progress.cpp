@@ -64,31 +64,60 @@ double Progress::fraction(double residual)
     return std::clamp(f, 0.0, 1.0);
 }
 
-bool Progress::operator()(const sim::StepInfo& info)
+bool Progress::due()
 {
     const auto now = std::chrono::steady_clock::now();
     const double since_last = std::chrono::duration<double>(now - last_).count();
-    const double wall = std::chrono::duration<double>(now - start_).count();
-    const double frac = fraction(info.max_residual_rel);
-    const bool draw = !any_ || since_last >= (tty_ ? 0.1 : 0.5);
-    if (draw) {
-        any_ = true;
-        last_ = now;
+    if (any_ && since_last < (tty_ ? 0.1 : 0.5)) return false;
+    any_ = true;
+    last_ = now;
+    return true;
+}
+
+void Progress::show(const char* line)
+{
+    if (tty_) {
+        const int width = 20;
+        const int filled = static_cast<int>(std::lround(last_fraction_ * width));
+        const std::string bar = "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] ";
+        std::fprintf(stderr, "\r%s%s\033[K", bar.c_str(), line);
+        drawn_ = true;
+    } else {
+        std::fprintf(stderr, "%s\n", line);
+    }
+    std::fflush(stderr);
+}
+
+bool Progress::operator()(const sim::StepInfo& info)
+{
+    last_fraction_ = fraction(info.max_residual_rel);
+    if (due()) {
+        const double wall = std::chrono::duration<double>(last_ - start_).count();
         char line[256];
         std::snprintf(line, sizeof line,
                       "step %d%s  t %.3f s  E %.6g J  residual %.3g m g (tolerance %.3g)  move %.3g m  wall %.1f s",
                       info.step, max_steps_ > 0 ? ("/" + std::to_string(max_steps_)).c_str() : "", info.time,
                       info.energy, info.max_residual_rel, tolerance_, info.max_move, wall);
-        if (tty_) {
-            const int width = 20;
-            const int filled = static_cast<int>(std::lround(frac * width));
-            const std::string bar = "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] ";
-            std::fprintf(stderr, "\r%s%s\033[K", bar.c_str(), line);
-            drawn_ = true;
-        } else {
-            std::fprintf(stderr, "%s\n", line);
-        }
-        std::fflush(stderr);
+        show(line);
+    }
+    return !interrupt_requested();
+}
+
+bool Progress::iteration(const sim::IterationInfo& info)
+{
+    if (due()) {
+        const double wall = std::chrono::duration<double>(last_ - start_).count();
+        char line[256];
+        if (std::isfinite(info.residual_rel))
+            std::snprintf(line, sizeof line,
+                          "step %d  Newton iteration %d (%d in all)  dt %.3g s  step residual %.3g m g (step tolerance "
+                          "%.3g)  wall %.1f s",
+                          info.step, info.iteration, info.total_iterations, info.time_step, info.residual_rel,
+                          info.tolerance, wall);
+        else
+            std::snprintf(line, sizeof line, "step %d  sweep %d (%d in all)  dt %.3g s  wall %.1f s", info.step,
+                          info.iteration, info.total_iterations, info.time_step, wall);
+        show(line);
     }
     return !interrupt_requested();
 }

@@ -24,7 +24,11 @@ int interrupted_exit_code();
 class Progress {
 public:
     Progress(int max_steps, double residual_tolerance);
+    /// After each step (sim::ProgressCallback).
     bool operator()(const sim::StepInfo& info);
+    /// Before each Newton iteration (fast solver) or after each phase 2 (paper solver), so that
+    /// the display moves within a long step (sim::IterationCallback).
+    bool iteration(const sim::IterationInfo& info);
     /// Ends the bar line (when one was drawn).
     void finish();
 
@@ -32,10 +36,15 @@ public:
     double fraction(double residual);
 
 private:
+    /// True (and the clock reset) when a line is due.
+    bool due();
+    void show(const char* line);
+
     bool tty_;
     int max_steps_;
     double tolerance_;
     double first_residual_ = 0;
+    double last_fraction_ = 0;  ///< the bar: the last step's way to the tolerance
     bool drawn_ = false;
     bool any_ = false;
     std::chrono::steady_clock::time_point start_, last_;

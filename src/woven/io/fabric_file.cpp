@@ -195,8 +195,9 @@ kes::FabricData find_fabric(const std::string& name_or_path, std::vector<std::st
         if (file.path == wanted) return parse_fabric(file.data, "built-in fabric '" + name_or_path + "'", warnings);
     std::string list;
     for (const auto& n : builtin_fabric_names()) list += (list.empty() ? "" : ", ") + n;
-    throw InputError("", "fabric", "unknown fabric '" + printable(name_or_path) + "'; expected a built-in fabric (" + list +
-                                       ") or a fabric file path ending in .toml");
+    throw InputError(printable(name_or_path), "fabric",
+                     "no such built-in fabric; expected a built-in fabric (" + list +
+                         ") or a fabric file path ending in .toml");
 }
 
 }  // namespace woven::io

@@ -23,7 +23,7 @@ inline constexpr double kMaxCoordinate_m = 1e3;     ///< largest |coordinate| of
 inline constexpr double kMinLength_m = 1e-4;        ///< smallest obstacle size, radius, thickness (m)
 inline constexpr double kMaxLength_m = 1e3;         ///< largest obstacle size (m)
 inline constexpr double kMinSigma_m = 1e-4;         ///< smallest particle spacing (m)
-inline constexpr double kMaxContactFraction = 0.5;  ///< largest contact distance / sigma
+inline constexpr double kMaxContactFraction = 1.0;  ///< largest contact distance / sigma
 inline constexpr int kMaxThreads = 4096;            ///< largest thread count asked for
 
 /// The cloth's starting state: a flat nu x nv grid of particles, spacing sigma, at a height.

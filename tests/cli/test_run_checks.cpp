@@ -1,0 +1,84 @@
+// Unit tests of the cli's run checks (issue 13 defects 2, 9, 12, 14): the sources are compiled
+// into this test directly, since the cli is an executable, not a library.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "woven/cli/progress.cpp"
+#include "woven/cli/resources.cpp"
+#include "woven/cli/run_checks.cpp"
+#include "woven/common/error.hpp"
+
+using namespace woven;
+
+TEST(RunChecks, NoReportWithANonFiniteNumber)
+{
+    // Defect 2: a report claiming convergence with null energies was written; now the run fails.
+    nlohmann::json r = {{"converged", true}, {"energy", {{"total_J", 0.5}}}, {"folds", nullptr}};
+    EXPECT_NO_THROW(cli::require_finite(r, "the drape", {"folds"}));
+    r["energy"]["total_J"] = nullptr;  // what a non-finite number becomes in JSON
+    try {
+        cli::require_finite(r, "the drape", {"folds"});
+        FAIL();
+    } catch (const RuntimeError& e) {
+        EXPECT_STREQ(e.what(), "the drape ended with a non-finite number (energy.total_J); no outputs written");
+    }
+    r["energy"]["total_J"] = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(cli::require_finite(r, "the drape", {"folds"}), RuntimeError);
+    r["energy"]["total_J"] = 0.5;
+    r["bbox"] = {{"min_m", {0.0, std::nan(""), 0.0}}};
+    EXPECT_THROW(cli::require_finite(r, "the drape", {"folds"}), RuntimeError);
+    r.erase("bbox");
+    EXPECT_THROW(cli::require_finite(r, "the drape"), RuntimeError);  // folds: null, not optional here
+}
+
+TEST(RunChecks, ThreadsNeverExceedTheCoresAvailable)
+{
+    // Defect 9: the request is capped at the cores of the affinity mask (and cgroup quota).
+    const int cores = cli::available_cores();
+    EXPECT_GE(cores, 1);
+    EXPECT_EQ(cli::threads_to_use(0), cores);
+    EXPECT_EQ(cli::threads_to_use(1), 1);
+    EXPECT_EQ(cli::threads_to_use(cores + 5), cores);
+}
+
+TEST(RunChecks, MemoryEstimateFollowsTheMeasuredPeaks)
+{
+    // Defect 12: the fit through the peak RSS measured with /usr/bin/time -v (docs/RELIABILITY.md):
+    // 51x51 36.9 MB, 101x101 121.0 MB, 151x151 278.5 MB; the estimate carries a 25 % margin.
+    const double margin = 1.25;
+    EXPECT_NEAR(cli::estimate_drape_memory(2601, 1).resident_bytes / margin, 36.9e6, 0.08 * 36.9e6);
+    EXPECT_NEAR(cli::estimate_drape_memory(10201, 1).resident_bytes / margin, 121.0e6, 0.03 * 121.0e6);
+    EXPECT_NEAR(cli::estimate_drape_memory(22801, 1).resident_bytes / margin, 278.5e6, 0.03 * 278.5e6);
+    const auto e = cli::estimate_drape_memory(4'000'000, 2);
+    EXPECT_GT(e.address_space_bytes, e.resident_bytes);
+    EXPECT_GT(e.resident_bytes, 50e9);  // --grid 2000 cannot run in 4 GB
+}
+
+TEST(RunChecks, ProgressBarFollowsTheResidualDownToTheTolerance)
+{
+    // Defect 14: the bar measures log(r0 / r) / log(r0 / tolerance), whatever the step limit.
+    cli::Progress p(400, 1e-3);
+    EXPECT_DOUBLE_EQ(p.fraction(1.0), 0.0);  // the first residual seen
+    EXPECT_NEAR(p.fraction(0.1), 1.0 / 3.0, 1e-12);
+    EXPECT_NEAR(p.fraction(0.01), 2.0 / 3.0, 1e-12);
+    EXPECT_DOUBLE_EQ(p.fraction(1e-3), 1.0);
+    EXPECT_DOUBLE_EQ(p.fraction(1e-5), 1.0);
+    EXPECT_DOUBLE_EQ(p.fraction(10.0), 0.0);
+    EXPECT_DOUBLE_EQ(p.fraction(std::nan("")), 0.0);
+}
+
+TEST(RunChecks, FittingErrorsNameTheFabricFile)
+{
+    // Defect 11: "fabric 'probe': bending.warp: ..." from the fitting stage names the file.
+    try {
+        cli::with_fabric_source("probe.toml", [] { throw InputError("fabric 'probe'", "bending.warp", "cannot fit"); });
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "probe.toml: bending.warp: cannot fit");
+    }
+    EXPECT_EQ(cli::fabric_source("cotton"), "built-in fabric 'cotton'");
+    EXPECT_EQ(cli::fabric_source("a/b.toml"), "a/b.toml");
+}
