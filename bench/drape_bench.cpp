@@ -9,6 +9,7 @@
 // Usage: drape_bench --woven BUILD/woven [--bullet BUILD/bench/peers/bullet_drape] --out DIR
 //        [--grids 51,101,201] [--paper-grids 21,51] [--repeat 3] [--bullet-max-wall 300]
 //        [--max-wall 1800] [--reference-energy 0.4760152] [--skip-threads2]
+//        drape_bench --from-runs DIR/runs.json --out DIR2   tabulates an earlier, possibly killed run
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -47,6 +48,7 @@ struct Options {
     double max_wall = 1800;        // s: a run is killed after this
     double reference_energy = 0;   // J: the 51 x 51 final energy before the performance work
     bool threads2 = true;
+    std::string from_runs;  // a runs.json to tabulate instead of running
 };
 
 struct Outcome {
@@ -250,18 +252,21 @@ int main(int argc, char** argv)
             opt.max_wall = std::stod(value());
         else if (a == "--reference-energy")
             opt.reference_energy = std::stod(value());
+        else if (a == "--from-runs")
+            opt.from_runs = value();
         else if (a == "--skip-threads2")
             opt.threads2 = false;
         else if (a == "--help" || a == "-h") {
             std::cout << "usage: drape_bench --woven WOVEN [--bullet BULLET] --out DIR [--grids 51,101,201] [--paper-grids 21,51]\n"
-                         "       [--repeat 3] [--bullet-max-wall 300] [--max-wall 1800] [--reference-energy J] [--skip-threads2]\n";
+                         "       [--repeat 3] [--bullet-max-wall 300] [--max-wall 1800] [--reference-energy J] [--skip-threads2]\n"
+                         "       drape_bench --from-runs RUNS.json --out DIR [--reference-energy J]   (tabulate an earlier run)\n";
             return 0;
         } else {
             std::cerr << "drape_bench: unknown option " << a << "\n";
             return 2;
         }
     }
-    if (opt.woven.empty() || access(opt.woven.c_str(), X_OK) != 0) {
+    if (opt.from_runs.empty() && (opt.woven.empty() || access(opt.woven.c_str(), X_OK) != 0)) {
         std::cerr << "drape_bench: --woven: an executable woven binary is expected\n";
         return 2;
     }
@@ -275,7 +280,25 @@ int main(int argc, char** argv)
         by_case[{r["tool"], r["solver"], r["grid"], r["threads"]}].push_back(r);
         std::ofstream(opt.out + "/runs.json") << runs.dump(1) << "\n";  // kept current: a killed bench keeps its runs
     };
-    for (int grid : opt.grids) {
+    if (!opt.from_runs.empty()) {
+        // Tabulate an earlier (possibly interrupted) run instead of running.
+        std::ifstream in(opt.from_runs);
+        const json old = json::parse(in, nullptr, false);
+        if (old.is_discarded() || !old.is_array()) {
+            std::cerr << "drape_bench: " << opt.from_runs << ": a JSON array of runs is expected\n";
+            return 2;
+        }
+        for (const json& r : old) add(r);
+        opt.grids.clear();
+        opt.paper_grids.clear();
+        for (const auto& [c, rs] : by_case) {
+            auto& list = c.solver == "paper" ? opt.paper_grids : opt.grids;
+            if (c.tool == "woven" && std::find(list.begin(), list.end(), c.grid) == list.end()) list.push_back(c.grid);
+        }
+        std::sort(opt.grids.begin(), opt.grids.end());
+        std::sort(opt.paper_grids.begin(), opt.paper_grids.end());
+    }
+    for (int grid : opt.from_runs.empty() ? opt.grids : std::vector<int>{}) {
         // woven one thread and Bullet alternate, so each pair runs under the same load.
         const bool bullet_here = with_bullet && grid <= 101;
         for (int rep = 1; rep <= opt.repeat; ++rep) {
@@ -288,7 +311,7 @@ int main(int argc, char** argv)
         }
         if (with_bullet && !bullet_here) add(run_bullet(opt, grid, 1));  // capped by --bullet-max-wall
     }
-    for (int grid : opt.paper_grids) {
+    for (int grid : opt.from_runs.empty() ? opt.paper_grids : std::vector<int>{}) {
         add(run_woven(opt, "paper", grid, 1, 1));
         if (!by_case.count({"woven", "fast", grid, 1})) add(run_woven(opt, "fast", grid, 1, 1));  // the ratio's other half
     }
