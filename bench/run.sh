@@ -4,7 +4,9 @@
 # in the same run (drape_bench: runs.json, table.md, time_vs_particles.png), and the notes of
 # bench/NOTES.md (profiles, what dominates, what the missed targets need).
 # Usage: bash bench/run.sh BUILD_DIR        environment: BENCH_GRIDS (default 51,101,201),
-#        BENCH_PAPER_GRIDS (21,51), BENCH_REPEAT (3), BENCH_MATRIX=1 also runs drape_matrix.sh
+#        BENCH_PAPER_GRIDS (21,51), BENCH_REPEAT (3), BENCH_MATRIX=1 also runs drape_matrix.sh,
+#        BENCH_FROM_RUNS=DIR/runs.json tabulates an earlier (possibly killed) run instead of running,
+#        BENCH_REFERENCE_ENERGY (J) the 51 x 51 energy before the change measured (d519f62 0.4760152)
 set -euo pipefail
 build=${1:-build}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -14,18 +16,23 @@ mkdir -p "$out"
 stamp=$(date -u +%Y-%m-%dT%H:%M:%SZ)
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 mem=$(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo)
-commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
-dirty=$(git -C "$root" status --porcelain -- src 2>/dev/null | grep -q . && echo " (with uncommitted changes under src/)" || true)
+# BENCH_COMMIT: the commit the binaries were built from, when not this tree's HEAD.
+commit=${BENCH_COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}
+dirty=""
+[[ -z "${BENCH_COMMIT:-}" ]] && git -C "$root" status --porcelain -- src 2>/dev/null | grep -q . && dirty=" (with uncommitted changes under src/)"
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 
-# Micro benchmarks, one BLAS thread.
-OPENBLAS_NUM_THREADS=1 "$build/bench/bench_model" --benchmark_min_time=0.3 > "$out/micro.txt" 2>&1
-
-bullet=()
-[[ -x "$build/bench/peers/bullet_drape" ]] && bullet=(--bullet "$build/bench/peers/bullet_drape")
-"$build/bench/drape_bench" --woven "$build/woven" "${bullet[@]}" --out "$out" \
-  --grids "${BENCH_GRIDS:-51,101,201}" --paper-grids "${BENCH_PAPER_GRIDS:-21,51}" --repeat "${BENCH_REPEAT:-3}" \
-  --reference-energy 0.4760152008957594 > /dev/null
+if [[ -n "${BENCH_FROM_RUNS:-}" ]]; then
+  "$build/bench/drape_bench" --from-runs "$BENCH_FROM_RUNS" --out "$out" --reference-energy "${BENCH_REFERENCE_ENERGY:-0.4760152008957594}" > /dev/null
+else
+  # Micro benchmarks, one BLAS thread.
+  OPENBLAS_NUM_THREADS=1 "$build/bench/bench_model" --benchmark_min_time=0.3 > "$out/micro.txt" 2>&1
+  bullet=()
+  [[ -x "$build/bench/peers/bullet_drape" ]] && bullet=(--bullet "$build/bench/peers/bullet_drape")
+  "$build/bench/drape_bench" --woven "$build/woven" "${bullet[@]}" --out "$out" \
+    --grids "${BENCH_GRIDS:-51,101,201}" --paper-grids "${BENCH_PAPER_GRIDS:-21,51}" --repeat "${BENCH_REPEAT:-3}" \
+    --reference-energy "${BENCH_REFERENCE_ENERGY:-0.4760152008957594}" > /dev/null
+fi
 cp "$out/time_vs_particles.png" "$here/time_vs_particles.png"
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 
