@@ -24,6 +24,35 @@ std::vector<char> pinned_mask(const Problem& problem)
 
 }  // namespace detail
 
+namespace {
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a well-mixed 64-bit hash of its input.
+std::uint64_t splitmix64(std::uint64_t z)
+{
+    z += 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+}  // namespace
+
+Positions perturbed(const Positions& x, const std::vector<char>& held, double amplitude, std::uint64_t seed)
+{
+    Positions y = x;
+    if (amplitude == 0) return y;
+    const std::uint64_t s = splitmix64(seed);
+    for (size_t i = 0; i < y.size(); ++i) {
+        if (!held.empty() && held[i]) continue;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint64_t h = splitmix64(s ^ splitmix64(3 * i + c));
+            const double u = static_cast<double>(h >> 11) * 0x1.0p-52 - 1.0;  // [-1, 1)
+            y[i][c] += amplitude * u;
+        }
+    }
+    return y;
+}
+
 double max_displacement(const Positions& x, const Positions& y)
 {
     double m = 0;

@@ -111,7 +111,13 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
     const int max_steps = options.max_steps > 0 ? options.max_steps : default_max_steps(SolverKind::FAST);
 
     Result result;
-    Positions x = problem.initial, v(n, Vec3::Zero()), x_tilde(n), x_prev, trial(n), dx(n);
+    // The seeded perturbation of the start (SolverOptions::perturbation); a particle it would
+    // move into an obstacle's contact distance stays where it was.
+    Positions x = perturbed(problem.initial, solver.pinned, options.perturbation, options.seed);
+    auto gap = [&](const Vec3& p) { return min_obstacle_distance(solver.obstacles, Positions{p}); };
+    for (int i = 0; i < n; ++i)
+        if (x[i] != problem.initial[i] && gap(x[i]) < std::min(solver.barrier.d_hat, gap(problem.initial[i]))) x[i] = problem.initial[i];
+    Positions v(n, Vec3::Zero()), x_tilde(n), x_prev, trial(n), dx(n);
     SparseAssembly system(model.stencils(), solver.pinned);
     std::optional<SparseAssembly> exact;  // the exact Hessian of the static steps (Newton-CG)
     NewtonLinearSolver linear(NewtonLinearSolver::Options{fo.cg_tolerance, fo.max_cg_iterations});

@@ -29,19 +29,29 @@ NewtonLinearSolver::~NewtonLinearSolver() = default;
 
 namespace {
 
-/// Runs CHOLMOD's OpenMP loops on the calling thread. CHOLMOD 3 asks for a fixed number of
-/// threads (4) in its supernodal loops whatever omp_set_num_threads says; on a 2-core machine
-/// the oversubscribed, spinning threads more than doubled the 51 x 51 cube's wall time (20-25 s,
-/// 9 s with this guard, one thread). Its dense kernels still use the BLAS's threads.
+/// Runs CHOLMOD's OpenMP loops and its dense (BLAS) kernels on the calling thread. CHOLMOD 3
+/// asks for a fixed number of threads (4) in its supernodal loops whatever omp_set_num_threads
+/// says; on a 2-core machine the oversubscribed, spinning threads more than doubled the 51 x 51
+/// cube's wall time (20-25 s, 9 s with this guard, one thread). A threaded BLAS sums in an order
+/// that depends on its thread count (--threads 1 and 2 differed by 2e-17 m): on one thread every
+/// thread count gives the same bits.
 class SerialOpenMP {
 public:
-    SerialOpenMP() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
-    ~SerialOpenMP() { omp_set_max_active_levels(levels_); }
+    SerialOpenMP() : levels_(omp_get_max_active_levels()), blas_(blas_threads())
+    {
+        omp_set_max_active_levels(0);
+        if (blas_ > 1) set_blas_threads(1);
+    }
+    ~SerialOpenMP()
+    {
+        omp_set_max_active_levels(levels_);
+        if (blas_ > 1) set_blas_threads(blas_);
+    }
     SerialOpenMP(const SerialOpenMP&) = delete;
     SerialOpenMP& operator=(const SerialOpenMP&) = delete;
 
 private:
-    int levels_;
+    int levels_, blas_;
 };
 
 bool same_structure(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b)
@@ -150,14 +160,15 @@ void set_blas_threads(int threads)
     // OpenBLAS reads its thread count at load time; its setter is looked up at run time so that
     // any BLAS works.
     using Setter = void (*)(int);
-    if (auto setter = reinterpret_cast<Setter>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) setter(threads);
+    static const auto setter = reinterpret_cast<Setter>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    if (setter) setter(threads);
 }
 
 int blas_threads()
 {
     using Getter = int (*)();
-    if (auto getter = reinterpret_cast<Getter>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"))) return getter();
-    return 0;
+    static const auto getter = reinterpret_cast<Getter>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    return getter ? getter() : 0;
 }
 
 }  // namespace woven::sim
