@@ -22,6 +22,7 @@
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/surface_file.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/image.hpp"
 #include "woven/testers/cusick.hpp"
@@ -44,20 +45,6 @@ struct CusickCommandOptions {
 };
 
 constexpr int kShadowPixels = 800;  ///< shadow.png is square, this many pixels a side
-
-/// The cut specimen as OBJ: positions (m), texture coordinates (rest position in particle
-/// spacings: u along the weft, v along the warp), triangles.
-std::string surface_obj(const geometry::TriangleMesh& m, const std::vector<Vec2>& uv, const std::string& fabric, double spacing)
-{
-    std::ostringstream o;
-    o << std::setprecision(9);
-    o << "# woven cusick: draped specimen, fabric " << fabric << ", spacing " << spacing << " m; units m; "
-      << "vt = rest position in particle spacings (u weft +x, v warp +y)\n";
-    for (const Vec3& v : m.vertices) o << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
-    for (const Vec2& t : uv) o << "vt " << t.x() << " " << t.y() << "\n";
-    for (const auto& f : m.faces) o << "f " << f[0] + 1 << "/" << f[0] + 1 << " " << f[1] + 1 << "/" << f[1] + 1 << " " << f[2] + 1 << "/" << f[2] + 1 << "\n";
-    return o.str();
-}
 
 struct Canvas {
     render::Image img;
@@ -226,7 +213,7 @@ int run_cusick(const CusickCommandOptions& o)
         render::write_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()), out(shadow_name));
         written.push_back(shadow_name);
         if (k == 0) {
-            io::write_file_atomic(out("cusick.obj"), surface_obj(r.surface, r.surface_uv, name, r.spacing_m));
+            io::write_file_atomic(out("cusick.obj"), io::surface_obj(r.surface, r.surface_uv, "cusick: draped specimen, fabric " + name + ", spacing " + std::to_string(r.spacing_m) + " m"));
             written.push_back("cusick.obj");
             if (!o.no_render) {
                 render::write_png(drape_picture(r, setup, fabric), out("drape.png"));

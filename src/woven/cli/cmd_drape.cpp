@@ -19,6 +19,7 @@
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
+#include "woven/io/surface_file.hpp"
 #include "woven/render/drape_view.hpp"
 
 namespace woven::cli {
@@ -28,10 +29,10 @@ namespace {
 /// drape.png: the cloth (a smooth surface through the particles, the fabric's colour) over the
 /// obstacles, seen along the scene camera's direction (if it has one), framed tightly.
 render::Image render_drape(const Positions& x, const model::Grid& grid, const io::SceneSpec& scene,
-                           const kes::FabricData& fabric, int width, int height)
+                           const kes::FabricData& fabric, int width, int height, const render::ClothSurface* cut_surface = nullptr)
 {
     render::DrapeScene ds;
-    ds.cloth = render::grid_surface(x, grid.nu, grid.nv);
+    ds.cloth = cut_surface ? *cut_surface : render::grid_surface(x, grid.nu, grid.nv);
     ds.cloth_color = render::fabric_color(fabric.color);
     ds.obstacles = &scene.obstacles;
     if (scene.camera.given) {
@@ -74,6 +75,7 @@ int run_drape(const DrapeOptions& options)
     if (const auto m = parse_integer(options.max_steps, "--max-steps", 0, 1'000'000'000)) ov.max_steps = static_cast<int>(*m);
     if (const auto t = parse_integer(options.threads, "--threads", 0, io::kMaxThreads)) ov.threads = static_cast<int>(*t);
     io::apply_overrides(scene, ov, cl);
+    if (options.perturb) scene.solver.perturbation = parse_number(*options.perturb, "--perturb", 0, io::kMaxPerturbation_m);
     // Threads and memory before anything large is built.
     const ThreadCount threads = choose_threads(scene.solver.threads);
     scene.solver.threads = threads.used;
@@ -86,6 +88,13 @@ int run_drape(const DrapeOptions& options)
     std::optional<model::ClothModel> model_storage;  // fitting errors name the fabric's file
     with_fabric_source(fabric_source(scene.fabric),
                        [&] { model_storage.emplace(model::make_cloth_model(fabric, grid, scene.model)); });
+    // A cloth cut to [cloth.outline]: only the kept particles, each weighing W x its area.
+    std::optional<model::ClothCut> cut;
+    if (scene.cloth.is_cut()) {
+        cut = scene.cloth.cut(scene.source_path);
+        with_fabric_source(fabric_source(scene.fabric),
+                           [&] { model_storage.emplace(model::make_cloth_model(fabric, grid, scene.model, cut->active, cut->area)); });
+    }
     const model::ClothModel& model = *model_storage;
     sim::Problem problem;
     problem.model = &model;
@@ -117,10 +126,21 @@ int run_drape(const DrapeOptions& options)
     auto out = [&](const std::string& name) { return join_path(out_dir, name); };
     for (const Vec3& p : result.x)
         if (!p.allFinite()) throw RuntimeError("the drape ended with non-finite positions; no outputs written");
-    set.add("drape.obj", io::cloth_obj(result.x, grid.nu, grid.nv));
-    set.add("drape.ply", io::cloth_ply(result.x, grid.nu, grid.nv));
+    std::optional<render::ClothSurface> cut_surface;  // a cut cloth: its surface, clipped to the outline
+    if (cut) {
+        std::vector<Vec2> uv;
+        cut_surface.emplace();
+        cut_surface->mesh = model::cut_surface(grid, *cut, result.x, &uv);
+        cut_surface->uv.assign(uv.begin(), uv.end());
+        cut_surface->spacing_m = grid.sigma;
+        set.add("drape.obj", io::surface_obj(cut_surface->mesh, uv, "drape of a cloth cut to its outline, scene " + scene.name));
+    } else {
+        set.add("drape.obj", io::cloth_obj(result.x, grid.nu, grid.nv));
+        set.add("drape.ply", io::cloth_ply(result.x, grid.nu, grid.nv));
+    }
     if (!options.no_render && !interrupt_requested()) {
-        render::write_png(render_drape(result.x, grid, scene, fabric, width, height), set.temp_path("drape.png"));
+        render::write_png(render_drape(result.x, grid, scene, fabric, width, height, cut_surface ? &*cut_surface : nullptr),
+                          set.temp_path("drape.png"));
         set.added("drape.png");
     }
     DrapeReportInput in;
@@ -138,10 +158,11 @@ int run_drape(const DrapeOptions& options)
     in.outputs = set.names();
     std::optional<analysis::FoldAnalysis> folds;  // over a box (the paper's cube): the corner folds
     if (const auto box = analysis::box_footprint(scene.obstacles))
-        folds = analysis::analyse_folds(analysis::grid_mesh(result.x, grid.nu, grid.nv), *box);
+        folds = analysis::analyse_folds(cut_surface ? cut_surface->mesh : analysis::grid_mesh(result.x, grid.nu, grid.nv), *box);
     in.folds = folds ? &*folds : nullptr;
     nlohmann::json report = drape_report(in);
     report["threads_requested"] = threads.requested;
+    report["perturbation_m"] = scene.solver.kind == sim::SolverKind::FAST ? scene.solver.perturbation : 0.0;
     require_finite(report, "the drape", {"folds"});
     report["files"] = set.files_json();
     set.publish("report.json", report.dump(2) + "\n");
@@ -177,6 +198,8 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("--seed", o->seed, "Random seed (the paper solver's stochastic phase)");
     sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)");
     sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)");
+    sub->add_option("--perturb", o->perturb,
+                    "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)");
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->add_option("--width", o->width, "Picture width, pixels")->capture_default_str();

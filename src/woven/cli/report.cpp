@@ -22,11 +22,14 @@ KesValues kes_values(const kes::FabricData& f)
 }
 
 StateMeasures measure_state(const Positions& x, const model::Grid& grid, const geometry::ObstacleSet& obstacles,
-                            double contact_distance)
+                            double contact_distance, const std::vector<char>& active)
 {
     StateMeasures m;
     geometry::Aabb box;
-    for (const Vec3& p : x) {
+    const auto kept = [&](int p) { return active.empty() || active[p]; };
+    for (std::size_t q = 0; q < x.size(); ++q) {
+        if (!kept(static_cast<int>(q))) continue;
+        const Vec3& p = x[q];
         box.extend(p);
         double nearest = std::numeric_limits<double>::infinity();
         for (std::size_t k = 0; k < obstacles.size(); ++k) {
@@ -54,8 +57,9 @@ StateMeasures measure_state(const Positions& x, const model::Grid& grid, const g
     };
     for (int j = 0; j < grid.nv; ++j)
         for (int i = 0; i < grid.nu; ++i) {
-            if (i + 1 < grid.nu) edge(grid.index(i, j), grid.index(i + 1, j));
-            if (j + 1 < grid.nv) edge(grid.index(i, j), grid.index(i, j + 1));
+            if (!kept(grid.index(i, j))) continue;
+            if (i + 1 < grid.nu && kept(grid.index(i + 1, j))) edge(grid.index(i, j), grid.index(i + 1, j));
+            if (j + 1 < grid.nv && kept(grid.index(i, j + 1))) edge(grid.index(i, j), grid.index(i, j + 1));
         }
     if (count == 0) m.strain_max = m.strain_min = 0;
     m.strain_mean = count ? sum / count : 0;
@@ -84,7 +88,7 @@ nlohmann::json drape_report(const DrapeReportInput& in)
     const auto& model = *in.model;
     const auto& r = *in.result;
     const auto& grid = model.grid();
-    const StateMeasures m = measure_state(r.x, grid, *in.obstacles, in.solver->contact_distance);
+    const StateMeasures m = measure_state(r.x, grid, *in.obstacles, in.solver->contact_distance, model.stencils().active);
     const KesValues kv = kes_values(*in.fabric_data);
 
     nlohmann::json j;

@@ -35,8 +35,10 @@ struct StateMeasures {
     double strain_max_abs = 0;   ///< largest |strain|
     Vec3 bbox_min = Vec3::Zero(), bbox_max = Vec3::Zero();  ///< m
 };
+/// Over the particles marked in `active` (empty: all; a cloth cut to an outline: the kept ones)
+/// and the threads between them.
 StateMeasures measure_state(const Positions& x, const model::Grid& grid, const geometry::ObstacleSet& obstacles,
-                            double contact_distance);
+                            double contact_distance, const std::vector<char>& active = {});
 
 /// Everything report.json holds.
 struct DrapeReportInput {

@@ -53,10 +53,12 @@ void check_start(const SceneSpec& s, const std::string& source)
 {
     if (s.obstacles.empty()) return;
     const Positions x = s.cloth.initial_positions();
+    const std::vector<char> kept = s.cloth.is_cut() ? s.cloth.cut(source).active : std::vector<char>(x.size(), 1);
     for (std::size_t k = 0; k < s.obstacles.size(); ++k) {
         const auto& o = s.obstacles[k];
         const auto box = o.bounds();
         for (std::size_t p = 0; p < x.size(); ++p) {
+            if (!kept[p]) continue;  // cut away by cloth.outline: not part of the cloth
             // Outside the bounds (with a margin) a particle cannot touch the obstacle.
             if (!box.empty() && ((x[p].array() < box.lo.array() - 1e-9).any() || (x[p].array() > box.hi.array() + 1e-9).any())
                 && o.kind() != "plane")
@@ -89,7 +91,37 @@ void check_scene(const SceneSpec& s, const std::string& source, const std::strin
         throw InputError(s.source_path, "solver.contact_distance_m",
                          "expected at most " + num_str(kMaxContactFraction) + " sigma = " +
                              num_str(kMaxContactFraction * sigma) + " m, got " + num_str(d));
+    if (s.cloth.is_cut()) s.cloth.cut(s.source_path);  // the outline fits the grid (InputError naming cloth.outline)
     check_start(s, s.source_path);
+}
+
+/// [cloth.outline]: type = "rectangle" | "disc" | "annulus" | "polygon", with centre_m and
+/// radius_m (disc, annulus), inner_radius_m (annulus), points_m (polygon: [[x, y], ...]), in m
+/// relative to the cloth's centre in its rest plane. The geometry is checked against the grid
+/// by check_scene (model::cut_grid).
+model::Outline parse_outline(const TomlTable& t)
+{
+    model::Outline o;
+    const std::string type = t.choice("type", std::nullopt, {"rectangle", "disc", "annulus", "polygon"});
+    const Range length{0, 100, true, "m"};
+    if (type == "disc" || type == "annulus") {
+        o.kind = type == "disc" ? model::Outline::Kind::DISC : model::Outline::Kind::ANNULUS;
+        o.centre = t.vec<2>("centre_m", kCoordinate, Vec2(0.0, 0.0));
+        o.radius = t.number("radius_m", length, std::nullopt);
+        if (type == "annulus") o.inner_radius = t.number("inner_radius_m", length, std::nullopt);
+    } else if (type == "polygon") {
+        o.kind = model::Outline::Kind::POLYGON;
+        const toml::node* n = t.node("points_m");
+        const toml::array* a = n ? n->as_array() : nullptr;
+        if (!a) t.fail("points_m", "expected an array of [x, y] points in m");
+        for (std::size_t k = 0; k < a->size(); ++k) {
+            const std::string field = t.field("points_m") + "[" + std::to_string(k + 1) + "]";
+            const toml::array* xy = a->get(k)->as_array();
+            if (!xy || xy->size() != 2) t.fail("points_m", "expected [x, y] at point " + std::to_string(k + 1) + TomlReader::at(*a->get(k)));
+            o.points.emplace_back(t.to_number(*xy->get(0), field, kCoordinate), t.to_number(*xy->get(1), field, kCoordinate));
+        }
+    }
+    return o;
 }
 
 void parse_cloth(const TomlTable& t, SceneSpec& s)
@@ -136,6 +168,7 @@ void parse_cloth(const TomlTable& t, SceneSpec& s)
         }
     }
     if (t.has("fabric")) s.fabric = t.string("fabric", std::nullopt);
+    if (const auto o = t.table("outline")) c.outline = parse_outline(*o);
 }
 
 void parse_solver(const TomlTable& t, sim::SolverOptions& o)
@@ -151,6 +184,7 @@ void parse_solver(const TomlTable& t, sim::SolverOptions& o)
     o.viscosity = t.number("viscosity_per_s", Range{0, 1e3, false, "1/s"}, o.viscosity);
     o.friction = t.number("friction", Range{0, 10, false, ""}, o.friction);
     o.threads = static_cast<int>(t.integer("threads", 0, kMaxThreads, o.threads));
+    o.perturbation = t.number("perturbation_m", Range{0, kMaxPerturbation_m, false, "m"}, o.perturbation);
 }
 
 void parse_model(const TomlTable& t, model::ModelOptions& o)

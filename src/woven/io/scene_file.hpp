@@ -12,6 +12,7 @@
 #include "woven/common/types.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/model/cloth_model.hpp"
+#include "woven/model/outline.hpp"
 #include "woven/sim/drape.hpp"
 
 namespace woven::io {
@@ -25,6 +26,7 @@ inline constexpr double kMaxLength_m = 1e3;         ///< largest obstacle size (
 inline constexpr double kMinSigma_m = 1e-4;         ///< smallest particle spacing (m)
 inline constexpr double kMaxContactFraction = 1.0;  ///< largest contact distance / sigma
 inline constexpr int kMaxThreads = 4096;            ///< largest thread count asked for
+inline constexpr double kMaxPerturbation_m = 0.01;  ///< largest start perturbation (m)
 
 /// The cloth's starting state: a flat nu x nv grid of particles, spacing sigma, at a height.
 struct ClothSpec {
@@ -37,6 +39,15 @@ struct ClothSpec {
     std::vector<std::pair<int, int>> pinned;  ///< particles (i, j) held at their start positions
     std::vector<std::string> clamped_edges;   ///< whole edges held: "i0" (i = 0), "i1" (i = nu-1), "j0", "j1"
 
+    /// The shape the cloth is cut to ([cloth.outline], docs/SCENE-FORMAT.md; default: the whole
+    /// rectangle), in the cloth's rest plane relative to its centre (model/outline.hpp).
+    model::Outline outline;
+
+    /// The outline's cut of grid() (kept particles, their areas); InputError naming
+    /// cloth.outline when it does not fit the grid.
+    model::ClothCut cut(const std::string& source) const { return model::cut_grid(grid(), outline, source, "cloth.outline"); }
+    /// True unless the outline is the whole rectangle.
+    bool is_cut() const { return outline.kind != model::Outline::Kind::RECTANGLE; }
     /// Rest spacing sigma = size_u / (nu - 1) (m).
     double sigma() const { return size_u / (nu - 1); }
     /// The model's grid (nu, nv, sigma).
