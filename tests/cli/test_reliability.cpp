@@ -530,3 +530,30 @@ TEST_F(Reliability, EveryBadInputClassKeepsTheDocumentedForm)
     }
     EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
+
+// Issue 11's perturbation from the command line and the scene: recorded with the seed in the
+// report; the same seed gives the same bits, another seed another start.
+TEST_F(Reliability, PerturbationIsSeededAndReported)
+{
+    write(dir_ / "tiny.toml", kTinyScene);
+    const std::string run = "drape tiny.toml --max-steps 2 --no-render --perturb 0.002 ";
+    ASSERT_EQ(woven(run + "--seed 5 --out a").code, 0);
+    ASSERT_EQ(woven(run + "--seed 5 --out b").code, 0);
+    ASSERT_EQ(woven(run + "--seed 6 --out c").code, 0);
+    const auto j = report(dir_ / "a" / "report.json");
+    EXPECT_EQ(j["perturbation_m"].get<double>(), 0.002);
+    EXPECT_EQ(j["seed"].get<std::uint64_t>(), 5u);
+    EXPECT_EQ(slurp(dir_ / "a" / "drape.obj"), slurp(dir_ / "b" / "drape.obj"));
+    EXPECT_NE(slurp(dir_ / "a" / "drape.obj"), slurp(dir_ / "c" / "drape.obj"));
+    Outcome r = woven("drape tiny.toml --perturb -1");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_EQ(r.err, "woven: error: command line: --perturb: expected a number in [0, 0.01], got '-1'\n");
+    write(dir_ / "p.toml", kTinyScene + "[solver]\nperturbation_m = 0.003\n");
+    ASSERT_EQ(woven("drape p.toml --max-steps 1 --no-render --out d").code, 0);
+    EXPECT_EQ(report(dir_ / "d" / "report.json")["perturbation_m"].get<double>(), 0.003);
+    write(dir_ / "p.toml", kTinyScene + "[solver]\nperturbation_m = 1.0\n");
+    r = woven("drape p.toml --max-steps 1 --no-render --out e");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_EQ(r.err, "woven: error: p.toml: solver.perturbation_m: expected a non-negative number in [0, 0.01] m, got 1 "
+                     "(line 14)\n");
+}

@@ -58,6 +58,18 @@ double parse_positive(const std::string& text, const std::string& option, double
     return v;
 }
 
+double parse_number(const std::string& text, const std::string& option, double lo, double hi)
+{
+    double v = 0;
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v) || v < lo || v > hi) {
+        char b[64];
+        std::snprintf(b, sizeof b, "[%g, %g]", lo, hi);
+        throw InputError(kCommandLine, option, "expected a number in " + std::string(b) + ", got " + shown(text));
+    }
+    return v;
+}
+
 std::string parse_path(const std::string& text, const std::string& option)
 {
     if (text.empty()) throw InputError(kCommandLine, option, "expected a directory path, got an empty string");

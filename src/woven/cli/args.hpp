@@ -13,6 +13,8 @@ long long parse_integer(const std::string& text, const std::string& option, long
 std::uint64_t parse_seed(const std::string& text, const std::string& option);
 /// A finite number in (lo, hi] (lo excluded).
 double parse_positive(const std::string& text, const std::string& option, double hi);
+/// A finite number in [lo, hi].
+double parse_number(const std::string& text, const std::string& option, double lo, double hi);
 /// A non-empty path ("command line: --out: expected a directory path, got an empty string").
 std::string parse_path(const std::string& text, const std::string& option);
 
