@@ -76,7 +76,6 @@ int run_drape(const DrapeOptions& options)
     if (const auto t = parse_integer(options.threads, "--threads", 0, io::kMaxThreads)) ov.threads = static_cast<int>(*t);
     io::apply_overrides(scene, ov, cl);
     if (options.perturb) scene.solver.perturbation = parse_number(*options.perturb, "--perturb", 0, io::kMaxPerturbation_m);
-    if (options.perturb) scene.solver.perturbation = parse_number(*options.perturb, "--perturb", 0, io::kMaxPerturbation_m);
     // Threads and memory before anything large is built.
     const ThreadCount threads = choose_threads(scene.solver.threads);
     scene.solver.threads = threads.used;
@@ -164,7 +163,6 @@ int run_drape(const DrapeOptions& options)
     nlohmann::json report = drape_report(in);
     report["threads_requested"] = threads.requested;
     report["perturbation_m"] = scene.solver.kind == sim::SolverKind::FAST ? scene.solver.perturbation : 0.0;
-    report["perturbation_m"] = scene.solver.kind == sim::SolverKind::FAST ? scene.solver.perturbation : 0.0;
     require_finite(report, "the drape", {"folds"});
     report["files"] = set.files_json();
     set.publish("report.json", report.dump(2) + "\n");
@@ -200,8 +198,6 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("--seed", o->seed, "Random seed (the paper solver's stochastic phase)");
     sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)");
     sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)");
-    sub->add_option("--perturb", o->perturb,
-                    "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)");
     sub->add_option("--perturb", o->perturb,
                     "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)");
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();

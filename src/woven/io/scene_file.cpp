@@ -185,7 +185,6 @@ void parse_solver(const TomlTable& t, sim::SolverOptions& o)
     o.friction = t.number("friction", Range{0, 10, false, ""}, o.friction);
     o.threads = static_cast<int>(t.integer("threads", 0, kMaxThreads, o.threads));
     o.perturbation = t.number("perturbation_m", Range{0, kMaxPerturbation_m, false, "m"}, o.perturbation);
-    o.perturbation = t.number("perturbation_m", Range{0, kMaxPerturbation_m, false, "m"}, o.perturbation);
 }
 
 void parse_model(const TomlTable& t, model::ModelOptions& o)
