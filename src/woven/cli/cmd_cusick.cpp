@@ -103,7 +103,7 @@ render::Image shadow_picture(const geometry::TriangleMesh& surface, double speci
         c.set(k, kShadowPixels / 2, 170, 170, 170);
     }
     c.text("warp (0 deg)", kShadowPixels / 2 + 6, 4, 200, 0, 0);
-    c.text("weft (90 deg)", kShadowPixels - 140, kShadowPixels / 2 + 6, 200, 0, 0);
+    c.text("weft (90 deg)", kShadowPixels - 175, kShadowPixels / 2 + 6, 200, 0, 0);
     for (int k = 0; k < nodes.count(); ++k) {
         const double a = nodes.angle_deg[k] * M_PI / 180;
         for (double t = nodes.radius_m[k]; t < specimen_radius * 1.06; t += 0.5 * px) {
