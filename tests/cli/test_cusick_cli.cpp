@@ -1,0 +1,111 @@
+// woven cusick on the command line: help, every bad option gives the one-line error and exit 2
+// with nothing written, and a small specimen's run writes its outputs and a complete cusick.json.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+namespace {
+
+struct Ran {
+    int code = -1;
+    std::string out, err;
+};
+
+class CusickCli : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        dir_ = fs::temp_directory_path() / ("woven_cusick_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override
+    {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+    Ran woven(const std::string& args)
+    {
+        const fs::path err = dir_ / ".stderr";
+        const std::string cmd = "cd '" + dir_.string() + "' && '" + WOVEN_BINARY + "' " + args + " 2>'" + err.string() + "'";
+        Ran r;
+        FILE* p = ::popen(cmd.c_str(), "r");
+        if (!p) return r;
+        char buf[4096];
+        std::size_t n;
+        while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+        const int status = ::pclose(p);
+        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        std::ifstream in(err);
+        std::stringstream s;
+        s << in.rdbuf();
+        r.err = s.str();
+        return r;
+    }
+    fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(CusickCli, HelpAndBadOptions)
+{
+    const Ran h = woven("cusick --help");
+    EXPECT_EQ(h.code, 0);
+    EXPECT_THAT(h.out, HasSubstr("--specimen-cm"));
+    EXPECT_THAT(h.out, HasSubstr("--seeds"));
+    struct Bad {
+        const char* args;
+        const char* what;
+    };
+    for (const Bad b : {Bad{"cusick cotton --disc-cm 40", "command line: --disc-cm:"}, Bad{"cusick cotton --specimen-cm -3", "command line: --specimen-cm:"},
+             Bad{"cusick cotton --spacing-cm 4", "command line: --spacing-cm:"}, Bad{"cusick cotton --seeds 0", "command line: --seeds:"},
+             Bad{"cusick nosuchfabric", "nosuchfabric"}, Bad{"cusick cotton --spacing-cm abc", "command line: --spacing-cm:"}}) {
+        SCOPED_TRACE(b.args);
+        const Ran r = woven(std::string(b.args) + " --out o");
+        EXPECT_EQ(r.code, 2);
+        EXPECT_THAT(r.err, HasSubstr(b.what));
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(dir_ / "o"));
+    }
+}
+
+TEST_F(CusickCli, ASmallSpecimenWritesEveryOutput)
+{
+    // A 12 cm specimen on a 6 cm disc at 1 cm: about 110 particles, two seeds.
+    const Ran r = woven("cusick silk --specimen-cm 12 --disc-cm 6 --spacing-cm 1 --seeds 2 --no-render --threads 1 --out o");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(r.out, HasSubstr("run 1/2 seed 1: DC "));
+    EXPECT_THAT(r.out, HasSubstr("run 2/2 seed 2: DC "));
+    for (const char* f : {"shadow-seed1.png", "shadow-seed2.png", "cusick.obj", "cusick.json"}) EXPECT_TRUE(fs::exists(dir_ / "o" / f)) << f;
+    EXPECT_FALSE(fs::exists(dir_ / "o" / "drape.png"));
+    std::ifstream in(dir_ / "o" / "cusick.json");
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_NEAR(j.at("specimen_area_m2").get<double>(), 3.14159265358979 * 0.06 * 0.06, 1e-12);
+    EXPECT_DOUBLE_EQ(j.at("spacing_m").get<double>(), 0.01);
+    ASSERT_EQ(j.at("runs").size(), 2u);
+    for (const char* k : {"drape_coefficient_percent", "nodes", "node_angles_deg", "node_depths_m", "converged", "drape_coefficient_mean",
+             "drape_coefficient_std", "nodes_per_run", "runs_per_node_count"})
+        EXPECT_TRUE(j.contains(k)) << k;
+    const double dc = j.at("drape_coefficient_percent").get<double>();
+    EXPECT_GT(dc, 0.0);
+    EXPECT_LT(dc, 100.5);
+    EXPECT_EQ(j.at("node_angles_deg").size(), j.at("nodes").get<size_t>());
+    for (const auto& a : j.at("node_angles_deg")) {
+        EXPECT_GE(a.get<double>(), 0.0);
+        EXPECT_LT(a.get<double>(), 360.0);
+    }
+}
