@@ -47,7 +47,6 @@ KesCurveResult kes_bending_test(const kes::FabricData& fabric, Direction dir, co
     for (int b = 0; b < layout.n_across; ++b)
         for (int a : {0, 1, N - 1, N}) fixed[layout.index(a, b)] = 1;
 
-    const kes::CurveFit fit = fitted_bending(fabric, dir);
     KesCurveResult r;
     r.test = "bending";
     r.direction = dir;
@@ -81,7 +80,7 @@ KesCurveResult kes_bending_test(const kes::FabricData& fabric, Direction dir, co
         const double dE_dalpha = dE_dpsi / (N - 1);
         r.x.push_back(K);
         r.y.push_back(dE_dalpha / width / newton_per_gf);  // N m / m = N -> gf (gf.cm/cm)
-        r.y_input.push_back(fit.value(K));
+        r.y_input.push_back(curve_value(input_bending(fabric, dir), K));
     }
     finish_kes_result(r, input_B(fabric, dir), kes::instrument::kBendingSlopeFrom, kes::instrument::kBendingSlopeTo);
     return r;

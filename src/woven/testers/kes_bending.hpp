@@ -32,7 +32,7 @@ struct KesCurveResult {
     double sigma = 0;                         ///< spacing used, m
     std::vector<double> x;                    ///< imposed K (1/cm) or phi (deg)
     std::vector<double> y;                    ///< simulated M (gf.cm/cm) or F (gf/cm)
-    std::vector<double> y_input;              ///< the input curve (its Sec. 5.1 fit) at x
+    std::vector<double> y_input;              ///< the input curve at x (its points, linearly interpolated)
     double input_summary = 0;                 ///< B or G of the input (file summary, else curve slope)
     double simulated_summary = 0;             ///< the simulated curve's KES slope
     double summary_rel_error = 0;             ///< (simulated - input) / input

@@ -78,7 +78,6 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
         sep = rest * (1 + e1);
     }
 
-    const kes::CurveFit fit = fitted_shear(fabric);
     const int steps = static_cast<int>(std::lround(options.max_angle / options.step));
     for (int k = 0; k <= steps; ++k) {
         const double phi_deg = k * options.max_angle / steps;
@@ -97,7 +96,7 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
         }
         r.x.push_back(phi_deg);
         r.y.push_back(dE / (area * std::cos(phi)) / gf_per_cm);
-        r.y_input.push_back(fit.value(phi_deg));
+        r.y_input.push_back(curve_value(fabric.shear.curve, phi_deg));
     }
     finish_kes_result(r, input_G(fabric), kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo);
     return r;

@@ -64,6 +64,14 @@ double input_G(const kes::FabricData& fabric)
     return kes::data_slope(fabric.shear.curve, kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo);
 }
 
+double curve_value(const kes::Curve& c, double x)
+{
+    if (x <= c.x.front()) return c.y.front();
+    for (std::size_t k = 1; k < c.x.size(); ++k)
+        if (x <= c.x[k]) return c.y[k - 1] + (x - c.x[k - 1]) / (c.x[k] - c.x[k - 1]) * (c.y[k] - c.y[k - 1]);
+    return c.y.back();
+}
+
 double window_slope(const std::vector<double>& x, const std::vector<double>& y, double lo, double hi)
 {
     if (x.size() < 2 || x.size() != y.size() || x.front() > lo || x.back() < hi)

@@ -47,6 +47,10 @@ double input_B(const kes::FabricData& fabric, Direction d);
 /// The same for G (gf/(cm.deg)), window 0.5-5 degrees.
 double input_G(const kes::FabricData& fabric);
 
+/// The curve's value at x, linearly interpolated between its points (the input the simulated
+/// curves are compared with).
+double curve_value(const kes::Curve& curve, double x);
+
 /// KES slope of a sampled curve over [lo, hi]: (y(hi) - y(lo)) / (hi - lo), y interpolated
 /// linearly (kes::data_slope, the definition the input summary values are checked with).
 double window_slope(const std::vector<double>& x, const std::vector<double>& y, double lo, double hi);
