@@ -118,7 +118,7 @@ struct Lobes {
     double phase_deg;  ///< angle of the first lobe's tip
 };
 
-class NodeCounter : public ::testing::TestWithParam<Lobes> { };
+class NodeCounter : public ::testing::TestWithParam<Lobes> {};
 
 TEST_P(NodeCounter, FindsExactlyKNodesOnAKLobedShadow)
 {
@@ -152,8 +152,8 @@ TEST_P(NodeCounter, FindsExactlyKNodesOnAKLobedShadow)
 }
 
 INSTANTIATE_TEST_SUITE_P(DrapeShadow, NodeCounter,
-    ::testing::Values(Lobes{1, 90}, Lobes{2, 10}, Lobes{3, 0}, Lobes{4, 45}, Lobes{5, 359.9}, Lobes{6, 0.1}, Lobes{7, 3}, Lobes{8, 22.5},
-        Lobes{9, 180}, Lobes{10, 0}, Lobes{12, 357}));
+                         ::testing::Values(Lobes{1, 90}, Lobes{2, 10}, Lobes{3, 0}, Lobes{4, 45}, Lobes{5, 359.9}, Lobes{6, 0.1},
+                                           Lobes{7, 3}, Lobes{8, 22.5}, Lobes{9, 180}, Lobes{10, 0}, Lobes{12, 357}));
 
 TEST(DrapeShadow, PeriodicPeaksHandleWrapPlateausAndThreshold)
 {

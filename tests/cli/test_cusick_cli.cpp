@@ -1,8 +1,5 @@
 // woven cusick on the command line: help, every bad option gives the one-line error and exit 2
 // with nothing written, and a small specimen's run writes its outputs and a complete cusick.json.
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +10,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -28,8 +27,8 @@ class CusickCli : public ::testing::Test {
 protected:
     void SetUp() override
     {
-        dir_ = fs::temp_directory_path() / ("woven_cusick_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        dir_ = fs::temp_directory_path()
+            / ("woven_cusick_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -71,9 +70,11 @@ TEST_F(CusickCli, HelpAndBadOptions)
         const char* args;
         const char* what;
     };
-    for (const Bad b : {Bad{"cusick cotton --disc-cm 40", "command line: --disc-cm:"}, Bad{"cusick cotton --specimen-cm -3", "command line: --specimen-cm:"},
-             Bad{"cusick cotton --spacing-cm 4", "command line: --spacing-cm:"}, Bad{"cusick cotton --seeds 0", "command line: --seeds:"},
-             Bad{"cusick nosuchfabric", "nosuchfabric"}, Bad{"cusick cotton --spacing-cm abc", "command line: --spacing-cm:"}}) {
+    for (const Bad b :
+         {Bad{"cusick cotton --disc-cm 40", "command line: --disc-cm:"},
+          Bad{"cusick cotton --specimen-cm -3", "command line: --specimen-cm:"},
+          Bad{"cusick cotton --spacing-cm 4", "command line: --spacing-cm:"}, Bad{"cusick cotton --seeds 0", "command line: --seeds:"},
+          Bad{"cusick nosuchfabric", "nosuchfabric"}, Bad{"cusick cotton --spacing-cm abc", "command line: --spacing-cm:"}}) {
         SCOPED_TRACE(b.args);
         const Ran r = woven(std::string(b.args) + " --out o");
         EXPECT_EQ(r.code, 2);
@@ -90,7 +91,8 @@ TEST_F(CusickCli, ASmallSpecimenWritesEveryOutput)
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_THAT(r.out, HasSubstr("run 1/2 seed 1: DC "));
     EXPECT_THAT(r.out, HasSubstr("run 2/2 seed 2: DC "));
-    for (const char* f : {"shadow-seed1.png", "shadow-seed2.png", "cusick.obj", "cusick.json"}) EXPECT_TRUE(fs::exists(dir_ / "o" / f)) << f;
+    for (const char* f : {"shadow-seed1.png", "shadow-seed2.png", "cusick.obj", "cusick.json"})
+        EXPECT_TRUE(fs::exists(dir_ / "o" / f)) << f;
     EXPECT_FALSE(fs::exists(dir_ / "o" / "drape.png"));
     std::ifstream in(dir_ / "o" / "cusick.json");
     const auto j = nlohmann::json::parse(in);
@@ -98,7 +100,7 @@ TEST_F(CusickCli, ASmallSpecimenWritesEveryOutput)
     EXPECT_DOUBLE_EQ(j.at("spacing_m").get<double>(), 0.01);
     ASSERT_EQ(j.at("runs").size(), 2u);
     for (const char* k : {"drape_coefficient_percent", "nodes", "node_angles_deg", "node_depths_m", "converged", "drape_coefficient_mean",
-             "drape_coefficient_std", "nodes_per_run", "runs_per_node_count"})
+                          "drape_coefficient_std", "nodes_per_run", "runs_per_node_count"})
         EXPECT_TRUE(j.contains(k)) << k;
     const double dc = j.at("drape_coefficient_percent").get<double>();
     EXPECT_GT(dc, 0.0);

@@ -36,8 +36,8 @@ TEST(FabricLibrary, HasAtLeastTenFabricsFromSilkToDenim)
 {
     const auto names = builtin_fabric_names();
     EXPECT_GE(names.size(), 10u);
-    for (const char* n : {"silk", "crepe", "cotton_lawn", "cotton", "polyester", "polyester_cotton", "viscose", "linen",
-                          "wool", "canvas", "denim"})
+    for (const char* n :
+         {"silk", "crepe", "cotton_lawn", "cotton", "polyester", "polyester_cotton", "viscose", "linen", "wool", "canvas", "denim"})
         EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
 }
 

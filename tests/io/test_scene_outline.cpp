@@ -17,8 +17,8 @@ namespace {
 /// A 32 cm cloth at 1 cm spacing over a disc; `outline` is the [cloth.outline] table's body.
 std::string scene(const std::string& outline)
 {
-    return "[cloth]\nsize_m = [0.32, 0.32]\ngrid = [33, 33]\nheight_m = 0.205\n[cloth.outline]\n" + outline +
-        "\n[[obstacle]]\ntype = \"disc\"\ncentre_m = [0.0, 0.0, 0.20]\nradius_m = 0.09\n";
+    return "[cloth]\nsize_m = [0.32, 0.32]\ngrid = [33, 33]\nheight_m = 0.205\n[cloth.outline]\n" + outline
+        + "\n[[obstacle]]\ntype = \"disc\"\ncentre_m = [0.0, 0.0, 0.20]\nradius_m = 0.09\n";
 }
 
 woven::io::SceneSpec parse(const std::string& text) { return woven::io::parse_scene(text, "s.toml", "."); }
@@ -42,7 +42,7 @@ TEST(SceneOutline, DiscAnnulusAndPolygonAreCut)
     ASSERT_TRUE(d.cloth.is_cut());
     const auto cd = d.cloth.cut("s.toml");
     EXPECT_NEAR(cd.total_area, std::numbers::pi * 0.15 * 0.15, 1e-14);
-    EXPECT_EQ(cd.active[d.cloth.grid().index(0, 0)], 0);   // a corner is cut away
+    EXPECT_EQ(cd.active[d.cloth.grid().index(0, 0)], 0);    // a corner is cut away
     EXPECT_EQ(cd.active[d.cloth.grid().index(16, 16)], 1);  // the centre is kept
 
     const auto a = parse(scene("type = \"annulus\"\ncentre_m = [0.005, 0.0]\nradius_m = 0.15\ninner_radius_m = 0.05"));
@@ -63,8 +63,7 @@ TEST(SceneOutline, ErrorsNameTheField)
     expect_error("type = \"disc\"\nradius_m = 0.004\ncentre_m = [0.005, 0.005]", "cloth.outline", "encloses no particle");
     expect_error("type = \"disc\"\nradius_m = 0.006", "cloth.outline", "too small for the grid");
     expect_error("type = \"annulus\"\nradius_m = 0.1\ninner_radius_m = 0.12", "cloth.outline.inner_radius_m", "below radius_m");
-    expect_error("type = \"polygon\"\npoints_m = [[0, 0], [0.1, 0.1], [0.1, 0], [0, 0.05]]", "cloth.outline.points_m",
-        "intersects itself");
+    expect_error("type = \"polygon\"\npoints_m = [[0, 0], [0.1, 0.1], [0.1, 0], [0, 0.05]]", "cloth.outline.points_m", "intersects itself");
     expect_error("type = \"polygon\"\npoints_m = [[0, 0], [0.1]]", "cloth.outline.points_m", "[x, y]");
 }
 

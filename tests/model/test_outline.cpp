@@ -156,7 +156,7 @@ TEST(Outline, RectangleHasConsistentAreas)
 struct DiscCase {
     double radius, sigma, cx, cy;
 };
-class DiscCut : public ::testing::TestWithParam<DiscCase> { };
+class DiscCut : public ::testing::TestWithParam<DiscCase> {};
 
 TEST_P(DiscCut, MassesSumToTheDiscAndTheFlatSurfaceIsTheDisc)
 {
@@ -191,8 +191,8 @@ TEST_P(DiscCut, MassesSumToTheDiscAndTheFlatSurfaceIsTheDisc)
 }
 
 INSTANTIATE_TEST_SUITE_P(Outline, DiscCut,
-    ::testing::Values(DiscCase{0.15, 0.01, 0, 0}, DiscCase{0.15, 0.005, 0, 0}, DiscCase{0.1234, 0.007, 0.0031, -0.002},
-        DiscCase{0.02, 0.01, 0.004, 0.0}));
+                         ::testing::Values(DiscCase{0.15, 0.01, 0, 0}, DiscCase{0.15, 0.005, 0, 0}, DiscCase{0.1234, 0.007, 0.0031, -0.002},
+                                           DiscCase{0.02, 0.01, 0.004, 0.0}));
 
 TEST(Outline, AnnulusAndPolygonCuts)
 {
@@ -208,7 +208,8 @@ TEST(Outline, AnnulusAndPolygonCuts)
     EXPECT_NEAR(mesh_area(m::cut_surface(g, c, flat(g))), A, 1e-10 * A);
 
     // An L-shaped garment-like panel, off the lattice.
-    const m::Outline l = polygon({{-0.153, -0.147}, {0.1213, -0.147}, {0.1213, 0.0117}, {0.0023, 0.0117}, {0.0023, 0.1466}, {-0.153, 0.1466}});
+    const m::Outline l =
+        polygon({{-0.153, -0.147}, {0.1213, -0.147}, {0.1213, 0.0117}, {0.0023, 0.0117}, {0.0023, 0.1466}, {-0.153, 0.1466}});
     const m::ClothCut cl = m::cut_grid(g, l, "s", "f");
     const double AL = m::signed_area(m::outline_ring(l, g));
     EXPECT_NEAR(AL, 0.2743 * 0.1587 + 0.1553 * 0.1349, 1e-12);

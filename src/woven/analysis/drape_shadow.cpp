@@ -61,8 +61,8 @@ bool interval_at(const std::array<Vec2, 3>& t, double y, double& x0, double& x1)
 
 /// For scanlines y_k = y0 + (k + 1/2) row, k = 0..rows-1: each face's x-interval, merged into
 /// disjoint sorted intervals per row.
-std::vector<std::vector<std::pair<double, double>>> row_intervals(
-    const std::vector<std::array<Vec2, 3>>& faces, double y0, double row, int rows)
+std::vector<std::vector<std::pair<double, double>>> row_intervals(const std::vector<std::array<Vec2, 3>>& faces, double y0, double row,
+                                                                  int rows)
 {
     std::vector<std::vector<std::pair<double, double>>> r(rows);
     for (const auto& t : faces) {
@@ -119,8 +119,7 @@ double ShadowRaster::area_m2() const
 
 ShadowRaster rasterize_shadow(const geometry::TriangleMesh& mesh, const Vec2& origin, double pixel_m, int width, int height)
 {
-    if (!(pixel_m > 0) || width <= 0 || height <= 0)
-        throw InputError(kWhere, "raster", "expected a positive pixel size and image size");
+    if (!(pixel_m > 0) || width <= 0 || height <= 0) throw InputError(kWhere, "raster", "expected a positive pixel size and image size");
     ShadowRaster r;
     r.width = width;
     r.height = height;
@@ -260,7 +259,7 @@ Nodes find_nodes(const std::vector<double>& radius_m, double flat_radius_m, doub
 }
 
 DrapeShadow measure_drape(const geometry::TriangleMesh& specimen, const Vec2& centre, double disc_radius_m, double specimen_radius_m,
-    double specimen_area_m2, const DrapeShadowOptions& options)
+                          double specimen_area_m2, const DrapeShadowOptions& options)
 {
     if (!(disc_radius_m > 0) || !(specimen_radius_m > disc_radius_m))
         throw InputError(kWhere, "radius", "expected 0 < disc radius < specimen radius");

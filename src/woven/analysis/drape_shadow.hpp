@@ -75,10 +75,10 @@ double drape_coefficient_percent(double shadow_area_m2, double disc_area_m2, dou
 
 /// The nodes of a drape.
 struct Nodes {
-    std::vector<double> angle_deg;   ///< of each node's tip, from the warp (+y) towards the weft (+x), in [0, 360), ascending
-    std::vector<double> radius_m;    ///< r(theta) at the tip
-    std::vector<double> depth_m;     ///< flat radius minus the tip's radius: how far the node reaches in from the specimen's edge
-    std::vector<double> amplitude_m; ///< prominence of the tip over the troughs beside it
+    std::vector<double> angle_deg;    ///< of each node's tip, from the warp (+y) towards the weft (+x), in [0, 360), ascending
+    std::vector<double> radius_m;     ///< r(theta) at the tip
+    std::vector<double> depth_m;      ///< flat radius minus the tip's radius: how far the node reaches in from the specimen's edge
+    std::vector<double> amplitude_m;  ///< prominence of the tip over the troughs beside it
     int count() const { return static_cast<int>(angle_deg.size()); }
 };
 
@@ -98,8 +98,8 @@ struct DrapeShadow {
 
 /// Settings of measure_drape.
 struct DrapeShadowOptions {
-    double row_m = 1e-4;              ///< scanline spacing of the area (m)
-    int angles = 1440;                ///< samples of r(theta) (0.25 degree)
+    double row_m = 1e-4;  ///< scanline spacing of the area (m)
+    int angles = 1440;    ///< samples of r(theta) (0.25 degree)
     /// Smallest prominence of a node as a fraction of the overhang (specimen radius minus disc
     /// radius): 0.1 is 6 mm for the standard 30 cm specimen on an 18 cm disc, several times the
     /// shadow's faceting at a 1 cm spacing and well below a real node's 2-4 cm.
@@ -111,6 +111,6 @@ struct DrapeShadowOptions {
 /// area and radius are given (the area the model's masses stand for). Throws InputError on
 /// inconsistent sizes.
 DrapeShadow measure_drape(const geometry::TriangleMesh& specimen, const Vec2& centre, double disc_radius_m, double specimen_radius_m,
-    double specimen_area_m2, const DrapeShadowOptions& options = {});
+                          double specimen_area_m2, const DrapeShadowOptions& options = {});
 
 }  // namespace woven::analysis

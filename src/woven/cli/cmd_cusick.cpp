@@ -64,7 +64,8 @@ struct Canvas {
         const float* v = reinterpret_cast<const float*>(vbuf.data());
         for (int q = 0; q < quads; ++q) {  // 4 vertices of 16 bytes (x, y, z, colour) per quad
             const float* a = v + q * 16;
-            const int x0 = static_cast<int>(a[0]) * 2, y0 = static_cast<int>(a[1]) * 2, x1 = static_cast<int>(a[8]) * 2, y1 = static_cast<int>(a[9]) * 2;
+            const int x0 = static_cast<int>(a[0]) * 2, y0 = static_cast<int>(a[1]) * 2, x1 = static_cast<int>(a[8]) * 2,
+                      y1 = static_cast<int>(a[9]) * 2;
             for (int yy = y0; yy < y1; ++yy)
                 for (int xx = x0; xx < x1; ++xx) set(x + xx, y + yy, r, g, b);
         }
@@ -74,8 +75,8 @@ struct Canvas {
 /// shadow.png: the shadow in black on white, seen from above with the warp (+y) up and the
 /// weft (+x) to the right; the disc (blue) and the flat specimen (grey) circles, as on the
 /// instrument's paper ring; the warp and weft axes and a red tick at each node.
-render::Image shadow_picture(const geometry::TriangleMesh& surface, double specimen_radius, double disc_radius, const analysis::Nodes& nodes,
-    double dc, int nodes_count)
+render::Image shadow_picture(const geometry::TriangleMesh& surface, double specimen_radius, double disc_radius,
+                             const analysis::Nodes& nodes, double dc, int nodes_count)
 {
     const double half = 1.08 * specimen_radius;
     const double px = 2 * half / kShadowPixels;
@@ -86,7 +87,9 @@ render::Image shadow_picture(const geometry::TriangleMesh& surface, double speci
     for (int row = 0; row < kShadowPixels; ++row)
         for (int col = 0; col < kShadowPixels; ++col)
             if (r.covered[col + static_cast<size_t>(kShadowPixels) * row]) c.set(col, kShadowPixels - 1 - row, 0, 0, 0);
-    const auto to_px = [&](double x, double y) { return std::pair<int, int>{static_cast<int>((x + half) / px), kShadowPixels - 1 - static_cast<int>((y + half) / px)}; };
+    const auto to_px = [&](double x, double y) {
+        return std::pair<int, int>{static_cast<int>((x + half) / px), kShadowPixels - 1 - static_cast<int>((y + half) / px)};
+    };
     const auto circle = [&](double rad, std::uint8_t R, std::uint8_t G, std::uint8_t B) {
         const int n = static_cast<int>(2 * M_PI * rad / px * 2);
         for (int k = 0; k < n; ++k) {
@@ -213,7 +216,10 @@ int run_cusick(const CusickCommandOptions& o)
         render::write_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()), out(shadow_name));
         written.push_back(shadow_name);
         if (k == 0) {
-            io::write_file_atomic(out("cusick.obj"), io::surface_obj(r.surface, r.surface_uv, "cusick: draped specimen, fabric " + name + ", spacing " + std::to_string(r.spacing_m) + " m"));
+            io::write_file_atomic(
+                out("cusick.obj"),
+                io::surface_obj(r.surface, r.surface_uv,
+                                "cusick: draped specimen, fabric " + name + ", spacing " + std::to_string(r.spacing_m) + " m"));
             written.push_back("cusick.obj");
             if (!o.no_render) {
                 render::write_png(drape_picture(r, setup, fabric), out("drape.png"));
@@ -286,7 +292,8 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                 "up), drape.png, cusick.obj and cusick.json to --out; one line per run on stdout. Node angles are measured "
                 "from the warp towards the weft.");
     sub->add_option("FABRIC", o->fabric, "A built-in fabric (see `woven fabrics`) or a fabric .toml file")->required();
-    sub->add_option("--specimen-cm", o->specimen_cm, "Specimen diameter, cm (the standard's 30; 24 and 36 are also used)")->capture_default_str();
+    sub->add_option("--specimen-cm", o->specimen_cm, "Specimen diameter, cm (the standard's 30; 24 and 36 are also used)")
+        ->capture_default_str();
     sub->add_option("--disc-cm", o->disc_cm, "Support disc diameter, cm")->capture_default_str();
     sub->add_option("--spacing-cm", o->spacing_cm, "Particle spacing, cm (default 0.5: where the drape coefficient has converged)");
     sub->add_option("--seeds", o->seeds, "Runs, each from a different small random perturbation of the flat start")->capture_default_str();

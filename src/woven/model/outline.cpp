@@ -86,8 +86,7 @@ void validate_outline(const Outline& o, const std::string& source, const std::st
     const auto bad = [&](const std::string& key, const std::string& what) { throw InputError(source, field + "." + key, what); };
     if (!o.centre.allFinite()) bad("centre_m", "expected finite numbers in m");
     switch (o.kind) {
-    case Outline::Kind::RECTANGLE:
-        return;
+    case Outline::Kind::RECTANGLE: return;
     case Outline::Kind::DISC:
         if (!std::isfinite(o.radius) || !(o.radius > 0)) bad("radius_m", "expected a positive radius in m, got " + num(o.radius));
         return;
@@ -121,8 +120,7 @@ Ring outline_ring(const Outline& o, const Grid& g)
         const Vec2 lo = rest_uv(g, 0, 0), hi = rest_uv(g, g.nu - 1, g.nv - 1);
         return {lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())};
     }
-    case Outline::Kind::DISC:
-        return circle(o.centre, o.radius, kCircleSegments, +1);
+    case Outline::Kind::DISC: return circle(o.centre, o.radius, kCircleSegments, +1);
     case Outline::Kind::ANNULUS: {
         Ring r = circle(o.centre, o.radius, kCircleSegments, +1);
         const Ring inner = circle(o.centre, o.inner_radius, kCircleSegments, -1);
@@ -250,8 +248,8 @@ ClothCut cut_grid(const Grid& g, const Outline& outline, const std::string& sour
     const double tol = 1e-9 * s;
     if ((lo.array() < hull_lo.array() - tol).any() || (hi.array() > hull_hi.array() + tol).any())
         throw InputError(source, field,
-            "the outline reaches beyond the grid's particles: expected it within x " + num(hull_lo.x()) + " .. " + num(hull_hi.x()) + " m, y "
-                + num(hull_lo.y()) + " .. " + num(hull_hi.y()) + " m of the cloth's centre");
+                         "the outline reaches beyond the grid's particles: expected it within x " + num(hull_lo.x()) + " .. "
+                             + num(hull_hi.x()) + " m, y " + num(hull_lo.y()) + " .. " + num(hull_hi.y()) + " m of the cloth's centre");
 
     const int n = g.size();
     cut.active.assign(n, 0);
@@ -272,7 +270,8 @@ ClothCut cut_grid(const Grid& g, const Outline& outline, const std::string& sour
         }
     for (int p = 0; p < n; ++p) cut.count += cut.active[p];
     if (cut.count == 0)
-        throw InputError(source, field, "the outline encloses no particle of the grid (spacing " + num(s) + " m): make it larger or the spacing finer");
+        throw InputError(source, field,
+                         "the outline encloses no particle of the grid (spacing " + num(s) + " m): make it larger or the spacing finer");
 
     // Each kept particle keeps its own clipped dual cell; a dropped particle's sliver goes to
     // its kept thread neighbours (else diagonal ones, else the nearest within two spacings).
@@ -301,8 +300,8 @@ ClothCut cut_grid(const Grid& g, const Outline& outline, const std::string& sour
             if (to.empty()) {
                 const Vec2 c = rest_uv(g, i, j);
                 throw InputError(source, field,
-                    "the outline is too small for the grid: a part of it near (" + num(c.x()) + ", " + num(c.y())
-                        + ") m lies more than two spacings from any particle inside it; make the spacing finer");
+                                 "the outline is too small for the grid: a part of it near (" + num(c.x()) + ", " + num(c.y())
+                                     + ") m lies more than two spacings from any particle inside it; make the spacing finer");
             }
             for (int q : to) cut.area[q] += own[p] / static_cast<double>(to.size());
         }
@@ -316,13 +315,15 @@ ClothCut cut_grid(const Grid& g, const Outline& outline, const std::string& sour
             if (!left && !right && !down && !up) {
                 const Vec2 c = rest_uv(g, i, j);
                 throw InputError(source, field,
-                    "the outline is too small for the grid: the particle at (" + num(c.x()) + ", " + num(c.y())
-                        + ") m has no thread neighbour inside it; make the spacing finer");
+                                 "the outline is too small for the grid: the particle at (" + num(c.x()) + ", " + num(c.y())
+                                     + ") m has no thread neighbour inside it; make the spacing finer");
             }
             if (right && up && cut.active[g.index(i + 1, j + 1)]) full_cell = true;
         }
     if (!full_cell)
-        throw InputError(source, field, "the outline is too small for the grid: no grid cell (spacing " + num(s) + " m) lies inside it; make the spacing finer");
+        throw InputError(source, field,
+                         "the outline is too small for the grid: no grid cell (spacing " + num(s)
+                             + " m) lies inside it; make the spacing finer");
     cut.total_area = signed_area(ring);
     return cut;
 }

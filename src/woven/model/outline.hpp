@@ -86,11 +86,11 @@ Vec2 rest_uv(const Grid& grid, int i, int j);
 
 /// What an outline keeps of a grid.
 struct ClothCut {
-    Ring ring;                  ///< outline_ring
-    std::vector<char> active;   ///< per particle: 1 if kept (inside the outline)
-    std::vector<double> area;   ///< per particle (m^2): 0 where dropped; sums to the outline's area
-    int count = 0;              ///< kept particles
-    double total_area = 0;      ///< m^2, the outline's area
+    Ring ring;                 ///< outline_ring
+    std::vector<char> active;  ///< per particle: 1 if kept (inside the outline)
+    std::vector<double> area;  ///< per particle (m^2): 0 where dropped; sums to the outline's area
+    int count = 0;             ///< kept particles
+    double total_area = 0;     ///< m^2, the outline's area
 };
 
 /// Cuts the grid along the outline (see the sketch). Throws InputError(source, field, ...)

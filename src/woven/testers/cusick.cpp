@@ -36,8 +36,10 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
         throw InputError(kSource, "disc_diameter_m", "expected a positive diameter below the specimen's (" + num(2 * R) + " m)");
     if (!std::isfinite(s) || !(s > 0) || !(R - rd >= 2 * s) || !(2 * R >= 8 * s))
         throw InputError(kSource, "spacing_m",
-            "expected a positive spacing of at most a half of the overhang (" + num(0.5 * (R - rd)) + " m) and an eighth of the specimen");
-    if (std::pow(2 * R / s, 2) > kMaxParticles) throw InputError(kSource, "spacing_m", "expected a spacing above " + num(2 * R / std::sqrt(kMaxParticles)) + " m");
+                         "expected a positive spacing of at most a half of the overhang (" + num(0.5 * (R - rd))
+                             + " m) and an eighth of the specimen");
+    if (std::pow(2 * R / s, 2) > kMaxParticles)
+        throw InputError(kSource, "spacing_m", "expected a spacing above " + num(2 * R / std::sqrt(kMaxParticles)) + " m");
     if (!std::isfinite(o.perturbation_m) || o.perturbation_m < 0 || o.perturbation_m >= 0.25 * (R - rd))
         throw InputError(kSource, "perturbation_m", "expected 0 or more, below a quarter of the overhang");
     if (!(o.disc_thickness_m > 0) || !(o.pedestal_radius_m > 0) || !(o.pedestal_radius_m <= rd))
@@ -92,7 +94,7 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     r.specimen_area_m2 = setup.cut.total_area;
     r.particles = setup.cut.count;
     r.shadow = analysis::measure_drape(r.surface, Vec2::Zero(), 0.5 * options.disc_diameter_m, 0.5 * options.specimen_diameter_m,
-        setup.cut.total_area, options.shadow);
+                                       setup.cut.total_area, options.shadow);
     return r;
 }
 

@@ -53,13 +53,13 @@ struct CusickOptions {
 
 /// The specimen and the instrument, ready to drape.
 struct CusickSetup {
-    model::Grid grid;                  ///< covers the specimen and a ring of particles around it
-    model::Outline outline;            ///< the specimen's disc
-    model::ClothCut cut;               ///< the particles kept, their areas
-    std::vector<int> clamped;          ///< kept particles within the disc's radius (pinned)
-    geometry::ObstacleSet obstacles;   ///< floor, pedestal, support disc
-    Positions initial;                 ///< flat, start_gap_m above the disc, perturbed, one per grid particle
-    double disc_top_z = 0;             ///< m
+    model::Grid grid;                 ///< covers the specimen and a ring of particles around it
+    model::Outline outline;           ///< the specimen's disc
+    model::ClothCut cut;              ///< the particles kept, their areas
+    std::vector<int> clamped;         ///< kept particles within the disc's radius (pinned)
+    geometry::ObstacleSet obstacles;  ///< floor, pedestal, support disc
+    Positions initial;                ///< flat, start_gap_m above the disc, perturbed, one per grid particle
+    double disc_top_z = 0;            ///< m
 };
 
 /// Builds the instrument (the perturbation drawn from options.solver.seed). Throws InputError("command line", "--specimen-cm" / "--disc-cm" /
@@ -74,8 +74,8 @@ struct CusickResult {
     std::vector<Vec2> surface_uv;    ///< per surface vertex: rest position in particle spacings (u weft, v warp)
     analysis::DrapeShadow shadow;    ///< DC and nodes, angles from the warp (+y)
     double spacing_m = 0;
-    double specimen_area_m2 = 0;     ///< W x this is the specimen's mass
-    int particles = 0;               ///< kept particles
+    double specimen_area_m2 = 0;  ///< W x this is the specimen's mass
+    int particles = 0;            ///< kept particles
 };
 
 /// Drapes the specimen to rest (sim::drape with the residual test of `woven drape`) and reads
