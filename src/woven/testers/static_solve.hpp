@@ -19,11 +19,11 @@ struct StaticOptions {
     /// measurement needs (a displacement error of about this fraction of a weight over the
     /// bending stiffness).
     double residual_tolerance = 1e-7;
-    /// The forces' own round-off is 1e-8 .. 3e-5 of a weight (stiff threads' tension summed
+    /// The forces' own round-off is 1e-8 .. 2e-4 of a weight (stiff threads' tension summed
     /// against the bending terms): a solve that stops improving (neither residual nor energy
     /// for 6 iterations) below floor_factor times the tolerance has converged as far as the
     /// arithmetic allows.
-    double floor_factor = 1000.0;
+    double floor_factor = 1e4;
     /// The reference force (N); 0: a particle's weight. Specimens held by forces much larger
     /// than their weight (the shear test's pre-tension) measure the residual against those.
     double reference_force = 0.0;
