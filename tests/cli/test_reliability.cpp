@@ -463,7 +463,7 @@ TEST_F(Reliability, Defect13AnEmptySceneIsAnError)
 // steps (a line per Newton iteration, about every 0.5 s), not once per step.
 TEST_F(Reliability, Defect14ProgressWithoutATerminal)
 {
-    const Outcome r = woven("drape cube --grid 41 --max-steps 3 --out res --no-render")  // three steps show it; short under the sanitizers;
+    const Outcome r = woven("drape cube --grid 41 --max-steps 3 --out res --no-render");  // three steps show it
     ASSERT_EQ(r.code, 0) << r.err;
     std::istringstream lines(r.err);
     std::string line;
