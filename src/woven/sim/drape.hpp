@@ -34,6 +34,9 @@ struct LineSearchOptions {
     double shrink = 0.5;       ///< step factor per rejected trial
     int max_trials = 40;       ///< trials before giving up
     double min_fraction = 1e-12;  ///< smallest step fraction tried
+    /// Relative round-off of the objective: below a predicted decrease of this times |phi0| the
+    /// energy cannot tell two trials apart, and a finite trial within that band is accepted.
+    double roundoff = 1e-13;
 };
 
 /// Settings of the fast solver (fast_solver.cpp) beyond the shared ones, with their units.
@@ -46,6 +49,9 @@ struct FastSolverOptions {
     double step_shrink = 0.5;         ///< step factor after one that did not converge
     double damping = 2.0;             ///< 1/s: viscous medium, v <- v / (1 + damping h)
     double dynamic_tolerance = 0.1;   ///< Newton tolerance of dynamic steps, residual force / (m g)
+    /// a dynamic step's Newton has also converged when no particle moves more than this, in
+    /// sigma, in an iteration (0.03 on the 51 x 51 cube: 1305 -> 371 Newton iterations, 0.01: 701)
+    double dynamic_step_tolerance = 0.03;
     double static_tolerance_factor = 0.5;  ///< static Newton tolerance, times residual_tolerance (below the equilibrium test's, which lets obstacles push)
     double min_newton_step = 1e-10;   ///< m: a Newton step whose largest particle move is below this has converged
     double trust_region = 1.0;        ///< largest particle move per Newton iteration, in sigma
