@@ -16,71 +16,19 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_support.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-    int code = -1;
-    std::string out, err;
-};
+using woven::test::Outcome;
+using woven::test::quote;
+using woven::test::slurp;
+using woven::test::write;
 
-std::string quote(const std::string& s)
-{
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-std::string slurp(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-void write(const fs::path& p, const std::string& text)
-{
-    std::ofstream out(p, std::ios::binary);
-    out << text;
-}
-
-/// A fresh temporary directory per test, removed afterwards.
-class Cli : public ::testing::Test {
+class Cli : public woven::test::WovenProcessTest {
 protected:
-    void SetUp() override
-    {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("woven_cli_" + std::to_string(::getpid()) + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override
-    {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-
-    /// Runs `woven <args>` in the temporary directory.
-    Outcome woven(const std::string& args)
-    {
-        const fs::path err = dir_ / ".stderr";
-        const std::string cmd = "cd " + quote(dir_.string()) + " && " + quote(WOVEN_BINARY) + " " + args + " 2>" +
-                                quote(err.string());
-        Outcome r;
-        FILE* p = ::popen(cmd.c_str(), "r");
-        if (!p) return r;
-        char buf[4096];
-        std::size_t n;
-        while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-        const int status = ::pclose(p);
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.err = slurp(err);
-        fs::remove(err);
-        return r;
-    }
-
     /// Files in the temporary directory (recursively), besides the test's own inputs.
     int count_entries(const fs::path& sub) const
     {
@@ -89,7 +37,6 @@ protected:
         return n;
     }
 
-    fs::path dir_;
 };
 
 /// A 0.3 m cloth, 9 x 9, over a sphere on a floor.

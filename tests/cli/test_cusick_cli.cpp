@@ -10,6 +10,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,45 +20,8 @@ using ::testing::HasSubstr;
 
 namespace {
 
-struct Ran {
-    int code = -1;
-    std::string out, err;
-};
-
-class CusickCli : public ::testing::Test {
-protected:
-    void SetUp() override
-    {
-        dir_ = fs::temp_directory_path()
-            / ("woven_cusick_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override
-    {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    Ran woven(const std::string& args)
-    {
-        const fs::path err = dir_ / ".stderr";
-        const std::string cmd = "cd '" + dir_.string() + "' && '" + WOVEN_BINARY + "' " + args + " 2>'" + err.string() + "'";
-        Ran r;
-        FILE* p = ::popen(cmd.c_str(), "r");
-        if (!p) return r;
-        char buf[4096];
-        std::size_t n;
-        while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-        const int status = ::pclose(p);
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        std::ifstream in(err);
-        std::stringstream s;
-        s << in.rdbuf();
-        r.err = s.str();
-        return r;
-    }
-    fs::path dir_;
-};
+using Ran = woven::test::Outcome;
+using CusickCli = woven::test::WovenProcessTest;
 
 }  // namespace
 

@@ -20,31 +20,16 @@
 
 #include "woven/io/sha256.hpp"
 
+#include "cli_support.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-    int code = -1;
-    std::string out, err;
-};
-
-std::string quote(const std::string& s)
-{
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-std::string slurp(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+using woven::test::Outcome;
+using woven::test::quote;
+using woven::test::slurp;
+using woven::test::write;
 
 bool one_line(const std::string& s) { return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1; }
 
@@ -94,40 +79,8 @@ std::string replace(std::string s, const std::string& from, const std::string& t
     return s;
 }
 
-class Reliability : public ::testing::Test {
+class Reliability : public woven::test::WovenProcessTest {
 protected:
-    void SetUp() override
-    {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("woven_rel_" + std::to_string(::getpid()) + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override
-    {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-
-    /// Runs `<prefix> woven <args>` in the temporary directory.
-    Outcome woven(const std::string& args, const std::string& prefix = "")
-    {
-        const fs::path err = dir_ / ".stderr";
-        const std::string cmd = "cd " + quote(dir_.string()) + " && " + prefix + quote(WOVEN_BINARY) + " " + args +
-                                " 2>" + quote(err.string());
-        Outcome r;
-        FILE* p = ::popen(cmd.c_str(), "r");
-        if (!p) return r;
-        char buf[4096];
-        std::size_t n;
-        while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-        const int status = ::pclose(p);
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.err = slurp(err);
-        fs::remove(err);
-        return r;
-    }
-
     /// Starts woven with `args` (stdout to /dev/null, stderr to err.txt); returns its pid.
     pid_t spawn(const std::vector<std::string>& args)
     {
@@ -185,7 +138,6 @@ protected:
         return ::testing::AssertionSuccess();
     }
 
-    fs::path dir_;
 };
 
 nlohmann::json report(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
