@@ -186,7 +186,7 @@ int run_cusick(const CusickCommandOptions& o)
     for (int k = 0; k < runs && !interrupted; ++k) {
         testers::CusickOptions ck = co;
         ck.solver.seed = seed0 + static_cast<std::uint64_t>(k);
-        const int max_steps = ck.solver.max_steps > 0 ? ck.solver.max_steps : 400;
+        const int max_steps = ck.solver.max_steps > 0 ? ck.solver.max_steps : sim::default_max_steps(ck.solver.kind);
         Progress progress(max_steps, ck.solver.residual_tolerance);
         const testers::CusickResult r = testers::run_cusick(fabric, ck, [&progress](const sim::StepInfo& s) { return progress(s); });
         progress.finish();

@@ -64,12 +64,8 @@ int run_drape(const DrapeOptions& options)
     if (const auto g = parse_integer(options.grid, "--grid", 3, 100000)) ov.grid = static_cast<int>(*g);
     ov.fabric = options.fabric;
     if (options.solver) {
-        if (*options.solver == "fast")
-            ov.solver = sim::SolverKind::FAST;
-        else if (*options.solver == "paper")
-            ov.solver = sim::SolverKind::PAPER;
-        else
-            throw InputError(cl, "--solver", "expected fast or paper");
+        ov.solver = sim::solver_kind_from_string(*options.solver);
+        if (!ov.solver) throw InputError(cl, "--solver", "expected fast or paper");
     }
     if (options.seed) ov.seed = parse_seed(*options.seed, "--seed");
     if (const auto m = parse_integer(options.max_steps, "--max-steps", 0, 1'000'000'000)) ov.max_steps = static_cast<int>(*m);
@@ -114,7 +110,7 @@ int run_drape(const DrapeOptions& options)
     Progress progress(max_steps, scene.solver.residual_tolerance);
     std::cerr << "woven: draping " << scene.name << " (" << grid.nu << " x " << grid.nv << " particles, fabric "
               << (fabric.name.empty() ? scene.fabric : fabric.name) << ", "
-              << (scene.solver.kind == sim::SolverKind::FAST ? "fast" : "paper") << " solver)\n";
+              << sim::to_string(scene.solver.kind) << " solver)\n";
     sim::Result result =
         sim::drape(problem, scene.solver, [&progress](const sim::StepInfo& s) { return progress(s); },
                    [&progress](const sim::IterationInfo& i) { return progress.iteration(i); });

@@ -99,7 +99,7 @@ nlohmann::json drape_report(const DrapeReportInput& in)
     j["grid"] = {grid.nu, grid.nv};
     j["particles"] = grid.size();
     j["sigma_m"] = grid.sigma;
-    j["solver"] = in.solver->kind == sim::SolverKind::FAST ? "fast" : "paper";
+    j["solver"] = sim::to_string(in.solver->kind);
     j["seed"] = in.solver->seed;
     j["threads"] = in.solver->threads;
     j["friction"] = in.solver->friction;

@@ -173,7 +173,7 @@ void parse_cloth(const TomlTable& t, SceneSpec& s)
 
 void parse_solver(const TomlTable& t, sim::SolverOptions& o)
 {
-    o.kind = t.choice("kind", "fast", {"fast", "paper"}) == "paper" ? sim::SolverKind::PAPER : sim::SolverKind::FAST;
+    o.kind = *sim::solver_kind_from_string(t.choice("kind", "fast", {"fast", "paper"}));
     o.seed = static_cast<std::uint64_t>(
         t.integer("seed", 0, std::numeric_limits<long long>::max(), static_cast<long long>(o.seed)));
     o.max_steps = static_cast<int>(t.integer("max_steps", 0, 1'000'000'000, o.max_steps));
