@@ -19,6 +19,7 @@
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/progress.hpp"
+#include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
@@ -124,16 +125,11 @@ render::Image shadow_picture(const geometry::TriangleMesh& surface, double speci
 /// drape.png: the draped specimen over the instrument, thread lines showing warp and weft.
 render::Image drape_picture(const testers::CusickResult& r, const testers::CusickSetup& setup, const kes::FabricData& fabric)
 {
-    render::DrapeScene ds;
-    ds.cloth.mesh = r.surface;
-    ds.cloth.uv.assign(r.surface_uv.begin(), r.surface_uv.end());
-    ds.cloth.spacing_m = r.spacing_m;
-    ds.cloth_color = render::fabric_color(fabric.color);
-    ds.obstacles = &setup.obstacles;
-    render::RenderOptions ro;
-    ro.width = 1024;
-    ro.height = 768;
-    return render::render_drape(ds, render::view_camera(ds, render::View::CORNER, double(ro.width) / ro.height), ro);
+    render::ClothSurface cloth;
+    cloth.mesh = r.surface;
+    cloth.uv.assign(r.surface_uv.begin(), r.surface_uv.end());
+    cloth.spacing_m = r.spacing_m;
+    return render_view(scene_view(std::move(cloth), setup.obstacles, fabric), render::View::CORNER, 1024, 768);
 }
 
 std::string angles_text(const std::vector<double>& a)

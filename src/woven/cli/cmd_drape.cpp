@@ -14,6 +14,7 @@
 #include "woven/cli/progress.hpp"
 #include "woven/cli/report.hpp"
 #include "woven/cli/run_checks.hpp"
+#include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
@@ -31,21 +32,8 @@ namespace {
 render::Image render_drape(const Positions& x, const model::Grid& grid, const io::SceneSpec& scene,
                            const kes::FabricData& fabric, int width, int height, const render::ClothSurface* cut_surface = nullptr)
 {
-    render::DrapeScene ds;
-    ds.cloth = cut_surface ? *cut_surface : render::grid_surface(x, grid.nu, grid.nv);
-    ds.cloth_color = render::fabric_color(fabric.color);
-    ds.obstacles = &scene.obstacles;
-    if (scene.camera.given) {
-        render::Camera c;
-        c.eye = scene.camera.eye;
-        c.target = scene.camera.target;
-        c.fov_deg = scene.camera.fov_deg;
-        ds.scene_camera = c;
-    }
-    render::RenderOptions ro;
-    ro.width = width;
-    ro.height = height;
-    return render::render_drape(ds, render::view_camera(ds, render::View::SCENE, double(width) / height), ro);
+    render::ClothSurface cloth = cut_surface ? *cut_surface : render::grid_surface(x, grid.nu, grid.nv);
+    return render_view(scene_view(std::move(cloth), scene.obstacles, fabric, &scene.camera), render::View::SCENE, width, height);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "woven/analysis/folds.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/report.hpp"
+#include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
@@ -126,27 +127,10 @@ Outcome drape(const kes::FabricData& fabric, const std::string& fabric_name, std
 
 render::DrapeScene drape_scene(const Outcome& d, const io::SceneSpec& scene, const kes::FabricData& fabric)
 {
-    render::DrapeScene ds;
-    ds.cloth = render::grid_surface(d.x, d.grid.nu, d.grid.nv);
-    ds.cloth_color = render::fabric_color(fabric.color);
-    ds.obstacles = &scene.obstacles;
-    if (scene.camera.given) {
-        render::Camera c;
-        c.eye = scene.camera.eye;
-        c.target = scene.camera.target;
-        c.fov_deg = scene.camera.fov_deg;
-        ds.scene_camera = c;
-    }
-    return ds;
+    return scene_view(render::grid_surface(d.x, d.grid.nu, d.grid.nv), scene.obstacles, fabric, &scene.camera);
 }
 
-render::Image picture(const render::DrapeScene& ds, render::View view, int w, int h)
-{
-    render::RenderOptions ro;
-    ro.width = w;
-    ro.height = h;
-    return render::render_drape(ds, render::view_camera(ds, view, double(w) / h), ro);
-}
+render::Image picture(const render::DrapeScene& ds, render::View view, int w, int h) { return render_view(ds, view, w, h); }
 
 std::string fmt(const char* f, double v)
 {

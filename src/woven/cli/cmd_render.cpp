@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "woven/cli/commands.hpp"
+#include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
 #include "woven/geometry/primitives.hpp"
 #include "woven/io/fabric_file.hpp"
@@ -71,39 +72,27 @@ int run_render(const RenderCommandOptions& o)
     print_warnings(warnings);
 
     const geometry::TriangleMesh mesh = io::load_obj_mesh(o.mesh);
-    render::DrapeScene ds;
+    render::ClothSurface cloth;
     const auto grid = obj_grid(o.mesh);
     if (grid && mesh.vertices.size() == static_cast<std::size_t>(grid->first) * grid->second) {
         const Positions x(mesh.vertices.begin(), mesh.vertices.end());
-        ds.cloth = render::grid_surface(x, grid->first, grid->second);
+        cloth = render::grid_surface(x, grid->first, grid->second);
     } else {  // any other mesh: drawn as it is, without thread lines
-        ds.cloth.mesh = mesh;
+        cloth.mesh = mesh;
         double len = 0;
         for (const auto& f : mesh.faces) len += (mesh.vertices[f[0]] - mesh.vertices[f[1]]).norm();
-        ds.cloth.spacing_m = mesh.faces.empty() ? 0 : len / mesh.faces.size();
+        cloth.spacing_m = mesh.faces.empty() ? 0 : len / mesh.faces.size();
     }
-    ds.cloth_color = render::fabric_color(fabric.color);
 
     geometry::ObstacleSet floor_only;  // without a scene: a floor under the lowest vertex
-    if (scene) {
-        ds.obstacles = &scene->obstacles;
-        if (scene->camera.given) {
-            render::Camera c;
-            c.eye = scene->camera.eye;
-            c.target = scene->camera.target;
-            c.fov_deg = scene->camera.fov_deg;
-            ds.scene_camera = c;
-        }
-    } else {
+    if (!scene) {
         double zmin = mesh.vertices.front().z();
         for (const Vec3& v : mesh.vertices) zmin = std::min(zmin, v.z());
         floor_only.add(std::make_unique<geometry::Plane>(Vec3(0, 0, zmin), Vec3::UnitZ()));
-        ds.obstacles = &floor_only;
     }
-    render::RenderOptions ro;
-    ro.width = width;
-    ro.height = height;
-    const render::Image img = render::render_drape(ds, render::view_camera(ds, *view, double(width) / height), ro);
+    const render::DrapeScene ds
+        = scene_view(std::move(cloth), scene ? scene->obstacles : floor_only, fabric, scene ? &scene->camera : nullptr);
+    const render::Image img = render_view(ds, *view, width, height);
     render::write_png(img, o.out);
     std::cout << "wrote " << o.out << " (" << width << " x " << height << ", view " << render::view_name(*view) << ")\n";
     return kExitOk;

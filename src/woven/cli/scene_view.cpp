@@ -1,0 +1,32 @@
+#include "woven/cli/scene_view.hpp"
+
+#include <utility>
+
+namespace woven::cli {
+
+render::DrapeScene scene_view(render::ClothSurface cloth, const geometry::ObstacleSet& obstacles, const kes::FabricData& fabric,
+                              const io::CameraSpec* camera)
+{
+    render::DrapeScene ds;
+    ds.cloth = std::move(cloth);
+    ds.cloth_color = render::fabric_color(fabric.color);
+    ds.obstacles = &obstacles;
+    if (camera && camera->given) {
+        render::Camera c;
+        c.eye = camera->eye;
+        c.target = camera->target;
+        c.fov_deg = camera->fov_deg;
+        ds.scene_camera = c;
+    }
+    return ds;
+}
+
+render::Image render_view(const render::DrapeScene& scene, render::View view, int width, int height)
+{
+    render::RenderOptions ro;
+    ro.width = width;
+    ro.height = height;
+    return render::render_drape(scene, render::view_camera(scene, view, double(width) / height), ro);
+}
+
+}  // namespace woven::cli
