@@ -1,5 +1,6 @@
 // The `woven` command line, run as a real process (WOVEN_BINARY) in a temporary directory.
 // Kept fast (tiny grids, few steps) since the suite also runs under the sanitizers.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -388,3 +389,62 @@ TEST_F(Cli, DrapeInterruptWritesTheStateReached)
 }
 
 }  // namespace
+
+namespace {
+
+/// Width and height from a PNG's IHDR chunk (bytes 16-23, big-endian); {0, 0} if not a PNG.
+std::pair<unsigned, unsigned> png_size(const std::string& png)
+{
+    if (png.size() < 24 || png.compare(1, 3, "PNG") != 0) return {0, 0};
+    auto be32 = [&](std::size_t at) {
+        unsigned v = 0;
+        for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(png[at + k]);
+        return v;
+    };
+    return {be32(16), be32(20)};
+}
+
+}  // namespace
+
+/// woven render draws a drape's mesh at the size asked, the same bits twice, and turns bad
+/// options into one-line errors (exit 2) that write nothing.
+TEST_F(Cli, RenderDrawsADrapedMeshAndRejectsBadOptions)
+{
+    write(dir_ / "tiny.toml", kTinyScene);
+    ASSERT_EQ(woven("drape tiny.toml --out d --max-steps 2 --no-render").code, 0);
+    const Outcome r = woven("render d/drape.obj --scene tiny.toml --view top --size 80x60 --out top.png");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string png = slurp(dir_ / "top.png");
+    EXPECT_EQ(png_size(png), std::make_pair(80u, 60u));
+    ASSERT_EQ(woven("render d/drape.obj --scene tiny.toml --view top --size 80x60 --out again.png").code, 0);
+    EXPECT_EQ(slurp(dir_ / "again.png"), png);  // deterministic
+    // Without a scene: a floor under the mesh, the corner view.
+    ASSERT_EQ(woven("render d/drape.obj --size 40x30 --out plain.png").code, 0);
+    EXPECT_EQ(png_size(slurp(dir_ / "plain.png")), std::make_pair(40u, 30u));
+
+    for (const char* bad : {"render d/drape.obj --size 0x10 --out x.png", "render d/drape.obj --size big --out x.png",
+                            "render d/drape.obj --view sideways --out x.png", "render nothere.obj --out x.png",
+                            "render d/drape.obj --scene nothere.toml --out x.png"}) {
+        const Outcome b = woven(bad);
+        EXPECT_EQ(b.code, 2) << bad << ": " << b.err;
+        EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << bad << ": " << b.err;
+        EXPECT_FALSE(fs::exists(dir_ / "x.png")) << bad;
+    }
+}
+
+/// woven experiment: help on every experiment, and bad names and options rejected before any
+/// drape (exit 2, one line, nothing written).
+TEST_F(Cli, ExperimentHelpAndBadOptions)
+{
+    const Outcome h = woven("experiment --help");
+    EXPECT_EQ(h.code, 0);
+    for (const char* name : {"cube", "map", "figure1"}) EXPECT_NE(h.out.find(name), std::string::npos) << name;
+    for (const char* bad : {"experiment", "experiment chair --out e", "experiment cube --seeds 0 --out e",
+                            "experiment cube --grid 2 --out e", "experiment map --map-grid 5y4 --out e",
+                            "experiment map --reuse nothere.json --out e"}) {
+        const Outcome b = woven(bad);
+        EXPECT_EQ(b.code, 2) << bad << ": " << b.err;
+        EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << bad << ": " << b.err;
+        EXPECT_FALSE(fs::exists(dir_ / "e")) << bad;
+    }
+}

@@ -319,7 +319,6 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     for (const auto& f : o.fabrics) paper.push_back(io::find_fabric(f, &warnings));
     print_warnings(warnings);
     const KesValues cv = kes_values(cotton);
-    make_output_dir(o.out);
 
     // Ratios 1/4 .. 4 evenly in log2; bending lengths 1 .. 5 cm evenly.
     std::vector<double> ratios, lengths;
@@ -347,6 +346,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
         if (!reused.is_object() || !reused.contains("cells") || !reused["cells"].is_array())
             throw InputError(*o.reuse, "cells", "expected the corner_map.json an earlier `woven experiment map` wrote");
     }
+    make_output_dir(o.out);  // after every input is read: a bad one writes nothing
     auto reused_cell = [&](double r, double c) -> const nlohmann::json& {
         for (const auto& jc : reused["cells"])
             if (jc.contains("ratio_warp_weft") && jc.contains("bending_length_cm") && jc["ratio_warp_weft"].is_number()
