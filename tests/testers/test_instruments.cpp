@@ -124,6 +124,27 @@ TEST(KesShear, LinearFabricRecoversG)
     }
 }
 
+// The FB1 specimen's free short edges carry no shear stress: the whole clamp reads a G that
+// falls short of the material's by an end effect proportional to 1 / length, and the middle of
+// a long clamp reads the material's own law (kes_shear.hpp).
+TEST(KesShear, FreeEndsLowerTheClampsGAsOneOverLength)
+{
+    const kes::FabricData f = linear_fabric(0.1, 0.1, 2.0);
+    ShearTestOptions o;
+    o.sigma = 0.01;
+    o.length = 0.20;
+    const KesCurveResult standard = kes_shear_test(f, Direction::WARP, o);
+    o.length = 0.80;
+    const KesCurveResult long_clamp = kes_shear_test(f, Direction::WARP, o);
+    // Below the input, by an effect that is 4 times smaller on a 4 times longer clamp (+-25 %).
+    EXPECT_LT(standard.summary_rel_error, -1e-3);
+    EXPECT_NEAR(standard.summary_rel_error / long_clamp.summary_rel_error, 4.0, 1.0);
+    // The centre of the clamp is nearer the material's law, and on the long clamp it is it.
+    EXPECT_GT(standard.central_rel_error, standard.summary_rel_error);
+    EXPECT_NEAR(long_clamp.central_rel_error, 0.0, 5e-4);
+    ASSERT_EQ(long_clamp.y_central.size(), long_clamp.x.size());
+}
+
 TEST(Instruments, AnisotropicFabricInTheRightOrder)
 {
     // Weft 2.5 times stiffer in bending than warp: the weft strip's bending length is longer by

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
@@ -34,6 +35,7 @@ struct KesTestOptions {
     std::string test = "all";
     std::string direction = "both";
     std::optional<std::string> sigma_cm;
+    std::optional<std::string> shear_length_cm;
     std::optional<std::string> bending_form;
     std::optional<std::string> discretization;
     std::optional<std::string> out;
@@ -74,6 +76,7 @@ struct Row {
     std::string test, direction, unit;
     double sigma_m = 0, input = 0, simulated = 0, rel = 0, curve = 0;
     std::optional<double> bending_length_m, elastica_bending_length_m;
+    std::optional<double> central, central_rel;  ///< shear: the middle half of the clamp (kes_shear.hpp)
     int solves_or_iterations = 0;
 };
 
@@ -81,8 +84,13 @@ std::string curve_csv(const testers::KesCurveResult& r, const std::string& x_nam
 {
     std::ostringstream s;
     s.precision(10);
-    s << x_name << ",simulated_" << y_name << ",input_" << y_name << "\n";
-    for (std::size_t k = 0; k < r.x.size(); ++k) s << r.x[k] << "," << r.y[k] << "," << r.y_input[k] << "\n";
+    s << x_name << ",simulated_" << y_name << ",input_" << y_name << (r.y_central.empty() ? "" : ",simulated_central_" + y_name) << "\n";
+    const bool central = r.y_central.size() == r.x.size();
+    for (std::size_t k = 0; k < r.x.size(); ++k) {
+        s << r.x[k] << "," << r.y[k] << "," << r.y_input[k];
+        if (central) s << "," << r.y_central[k];
+        s << "\n";
+    }
     return s.str();
 }
 
@@ -288,6 +296,10 @@ int run_kes_test(const KesTestOptions& options)
             row.rel = r.summary_rel_error;
             row.curve = r.curve_max_rel_error;
             row.solves_or_iterations = r.iterations;
+            if (!r.y_central.empty()) {
+                row.central = r.central_summary;
+                row.central_rel = r.central_rel_error;
+            }
             rows.push_back(row);
         }
     };
@@ -307,6 +319,7 @@ int run_kes_test(const KesTestOptions& options)
     if (run_shear) {
         testers::ShearTestOptions so;
         so.sigma = (sigma_cm ? *sigma_cm : kDefaultShearSigmaCm) * units::kCmToM;
+        if (options.shear_length_cm) so.length = parse_number(*options.shear_length_cm, "--shear-length-cm", 5, 200) * units::kCmToM;
         so.model = mo;
         std::vector<testers::KesCurveResult> results;
         for (testers::Direction d : directions) {
@@ -330,12 +343,17 @@ int run_kes_test(const KesTestOptions& options)
     std::cout << "fabric " << name << " (bending form " << (mo.bending_form == model::BendingForm::WORK ? "work" : "secant")
               << ", discretization " << (mo.discretization == model::Discretization::PAPER ? "paper" : "convergent") << ")\n";
     std::printf("%-10s %-5s %8s %12s %12s %9s %9s  %s\n", "test", "dir", "sigma_cm", "input", "simulated", "rel_err", "curve_err", "unit");
-    for (const Row& r : rows)
+    for (const Row& r : rows) {
         std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", r.test.c_str(), r.direction.c_str(), r.sigma_m * units::kMToCm,
                     r.input, r.simulated, 100 * r.rel, 100 * r.curve, r.unit.c_str());
+        if (r.central)
+            std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %9s  %s\n", "  centre", r.direction.c_str(), r.sigma_m * units::kMToCm, r.input,
+                        *r.central, 100 * *r.central_rel, "", r.unit.c_str());
+    }
     std::cout << "cantilever: input = the exact elastica's flexural rigidity W g c^3 for the input curve, rel_err = bending length vs the "
                  "elastica's, curve_err = largest shape difference / tip drop; bending, shear: input = the file's B, G (or its curve's KES "
-                 "slope), curve_err = largest relative difference from the input curve over 0.5..2.5 1/cm, 0.5..8 deg\n";
+                 "slope), curve_err = largest relative difference from the input curve over 0.5..2.5 1/cm, 0.5..8 deg; shear centre: the middle "
+                 "half of the moving clamp, away from the specimen's free short edges (the material's law)\n";
 
     // Files: staged atomically, kes-report.json last.
     nlohmann::json report = {{"version", WOVEN_VERSION},
@@ -354,6 +372,10 @@ int run_kes_test(const KesTestOptions& options)
                             {"simulated_summary", finite_or_null(r.simulated)},
                             {"summary_rel_error", finite_or_null(r.rel)},
                             {"curve_max_rel_error", finite_or_null(r.curve)}};
+        if (r.central) {
+            t["central_summary"] = finite_or_null(*r.central);
+            t["central_rel_error"] = finite_or_null(*r.central_rel);
+        }
         if (r.bending_length_m) {
             t["bending_length_m"] = finite_or_null(*r.bending_length_m);
             t["elastica_bending_length_m"] = finite_or_null(*r.elastica_bending_length_m);
@@ -386,12 +408,14 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
     sub->footer("Each test is a static simulation of a specimen of the model's particles (docs/VALIDATION.md says how each maps onto the "
                 "grid). Prints input vs simulated summary values and writes to --out (default out/kes-<name>): <test>_<direction>.csv, "
                 "cantilever.png, bending.png, shear.png and kes-report.json (list 'tests': test, direction, sigma_m, input_summary, "
-                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m).");
+                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m; shear also central_summary, central_rel_error: the middle half of the clamp, away from the free short edges).");
     sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")->required();
     sub->add_option("--test", options->test, "cantilever, bending, shear or all")->capture_default_str();
     sub->add_option("--direction", options->direction, "warp, weft or both")->capture_default_str();
     sub->add_option("--sigma-cm", options->sigma_cm,
                     "Particle spacing of the specimens, cm (default: cantilever 0.25, bending 0.1, shear 0.25)");
+    sub->add_option("--shear-length-cm", options->shear_length_cm,
+                    "FB1 specimen length along the clamps, cm (default 20, the instrument's; longer shows the free ends' effect on G)");
     sub->add_option("--bending-form", options->bending_form, "work or secant (default: the model's, work)");
     sub->add_option("--discretization", options->discretization, "convergent or paper (default: the model's, convergent)");
     sub->add_option("--out", options->out, "Output directory (default out/kes-<name>)");

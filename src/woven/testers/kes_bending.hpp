@@ -39,6 +39,11 @@ struct KesCurveResult {
     double curve_max_rel_error = 0;           ///< max |y - y_input| / y_input over the comparison range
     double compare_from = 0, compare_to = 0;  ///< the comparison range (x units)
     int iterations = 0;                       ///< Newton iterations over all steps
+    /// Shear only: the force per unit length on the middle half of the moving clamp, away
+    /// from the specimen's free short edges (kes_shear.hpp), its KES slope and error against
+    /// the input; empty / 0 for bending.
+    std::vector<double> y_central;
+    double central_summary = 0, central_rel_error = 0;
 };
 
 /// Settings of the FB2 test (SI unless stated).

@@ -89,16 +89,25 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
         r.iterations += eq.iterations;
         // dE/dphi: the moving clamp's particles move by sep (cos phi, -sin phi) per radian.
         const Eigen::VectorXd g = model.gradient(eq.x);
-        double dE = 0;
+        double dE = 0, dE_central = 0;
+        int central = 0;  // particles of the middle half, each standing for sigma of clamp
         for (int a = 0; a < layout.n_along; ++a) {
             const int p = layout.index(a, N);
-            dE += sep * (g[3 * p] * std::cos(phi) - g[3 * p + 1] * std::sin(phi));
+            const double dE_p = sep * (g[3 * p] * std::cos(phi) - g[3 * p + 1] * std::sin(phi));
+            dE += dE_p;
+            if (4 * a >= layout.n_along - 1 && 4 * a <= 3 * (layout.n_along - 1)) {
+                dE_central += dE_p;
+                ++central;
+            }
         }
         r.x.push_back(phi_deg);
         r.y.push_back(dE / (area * std::cos(phi)) / gf_per_cm);
+        r.y_central.push_back(dE_central / (central * layout.sigma * N * layout.sigma * std::cos(phi)) / gf_per_cm);
         r.y_input.push_back(curve_value(fabric.shear.curve, phi_deg));
     }
     finish_kes_result(r, input_G(fabric), kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo);
+    r.central_summary = window_slope(r.x, r.y_central, kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo);
+    r.central_rel_error = (r.central_summary - r.input_summary) / r.input_summary;
     return r;
 }
 

@@ -16,6 +16,16 @@
 //   F = dE/dphi / (A cos phi),  A = the specimen's rest area (20 x 5 cm^2),
 // the lateral reaction less the pre-tension's own lateral share (F_N tan phi), which the
 // paper's trellis energy (Eq. 14-15) does not contain.
+//
+// The specimen's short edges are free, as on the instrument: a free edge carries no shear
+// stress, so the shear relaxes over a few centimetres from each end and the whole clamp reads
+// a G below the material's, by an amount that falls as 1 / length (linen, G 2.0 gf/(cm.deg) at
+// 10 gf/cm, sigma 0.25 cm: -1.09 / -0.55 / -0.27 % with a 20 / 40 / 80 cm clamp; at 20 cm
+// -0.46 / -0.80 / -1.09 % at sigma 1 / 0.5 / 0.25 cm, growing as the grid resolves the edge
+// layer: a continuum end effect, which the real instrument has too). The curve of the middle
+// half of the moving clamp (KesCurveResult::y_central) leaves the ends out: on an 80 cm clamp
+// it is the material's law to 0.02 %; on the standard 20 cm one it still carries half the end
+// effect.
 #include "woven/testers/kes_bending.hpp"
 
 namespace woven::testers {
