@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include <stb/stb_easy_font.h>
+#include "woven/render/glyphs.hpp"
 
 namespace woven::render {
 
@@ -62,37 +62,13 @@ void fill_disc(Image& img, double cx, double cy, double r, const Vec3& srgb)
             blend(img, x, y, srgb, std::clamp(r + 0.5 - std::hypot(x + 0.5 - cx, y + 0.5 - cy), 0.0, 1.0));
 }
 
-int label_width(const std::string& text, int scale)
-{
-    if (text.empty()) return 0;
-    std::vector<char> buf(text.begin(), text.end());
-    buf.push_back('\0');
-    return stb_easy_font_width(buf.data()) * scale;
-}
+int label_width(const std::string& text, int scale) { return text.empty() ? 0 : detail::text_width_units(text) * scale; }
 
 void draw_label(Image& img, const std::string& text, int x, int y, int scale, const Vec3& srgb)
 {
-    if (text.empty()) return;
-    std::vector<char> buf(text.begin(), text.end());
-    buf.push_back('\0');
-    std::vector<char> vbuf(text.size() * 300 + 1024);
-    const int quads = stb_easy_font_print(0, 0, buf.data(), nullptr, vbuf.data(), static_cast<int>(vbuf.size()));
-    struct Vertex {
-        float x, y, z;
-        unsigned char c[4];
-    };
-    const auto* v = reinterpret_cast<const Vertex*>(vbuf.data());
-    for (int q = 0; q < quads; ++q) {
-        float ax = v[4 * q].x, bx = ax, ay = v[4 * q].y, by = ay;
-        for (int k = 1; k < 4; ++k) {
-            ax = std::min(ax, v[4 * q + k].x);
-            bx = std::max(bx, v[4 * q + k].x);
-            ay = std::min(ay, v[4 * q + k].y);
-            by = std::max(by, v[4 * q + k].y);
-        }
-        fill_rect(img, x + static_cast<int>(std::lround(ax * scale)), y + static_cast<int>(std::lround(ay * scale)),
-                  x + static_cast<int>(std::lround(bx * scale)), y + static_cast<int>(std::lround(by * scale)), srgb);
-    }
+    for (const detail::GlyphBox& g : detail::glyph_boxes(text))
+        fill_rect(img, x + static_cast<int>(std::lround(g.x0 * scale)), y + static_cast<int>(std::lround(g.y0 * scale)),
+                  x + static_cast<int>(std::lround(g.x1 * scale)), y + static_cast<int>(std::lround(g.y1 * scale)), srgb);
 }
 
 }  // namespace woven::render

@@ -8,12 +8,7 @@
 #include <string>
 #include <vector>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb/stb_easy_font.h>
-#pragma GCC diagnostic pop
+#include "woven/render/glyphs.hpp"
 
 namespace woven::render {
 
@@ -122,39 +117,16 @@ private:
 };
 
 /// Text size in pixels at kTextScale.
-int text_width(const std::string& s)
-{
-    if (s.empty()) return 0;
-    std::vector<char> buf(s.begin(), s.end());
-    buf.push_back('\0');
-    return stb_easy_font_width(buf.data()) * kTextScale;
-}
+int text_width(const std::string& s) { return s.empty() ? 0 : detail::text_width_units(s) * kTextScale; }
 constexpr int kTextHeight = 7 * kTextScale;
 
 /// Draws text with its top-left corner at (x, y); rotated: reading upwards, (x, y) is the top-left
 /// of the rotated box's baseline start, i.e. the text occupies [x, x + height) x (y - width, y].
 void draw_text(Canvas& canvas, const std::string& s, int x, int y, const Vec3& c, bool rotated = false)
 {
-    if (s.empty()) return;
-    std::vector<char> buf(s.begin(), s.end());
-    buf.push_back('\0');
-    std::vector<char> vbuf(s.size() * 300 + 1024);
-    const int quads = stb_easy_font_print(0, 0, buf.data(), nullptr, vbuf.data(), static_cast<int>(vbuf.size()));
-    struct Vertex {
-        float x, y, z;
-        unsigned char c[4];
-    };
-    const auto* v = reinterpret_cast<const Vertex*>(vbuf.data());
-    for (int q = 0; q < quads; ++q) {
-        float ax = v[4 * q].x, bx = ax, ay = v[4 * q].y, by = ay;
-        for (int k = 1; k < 4; ++k) {
-            ax = std::min(ax, v[4 * q + k].x);
-            bx = std::max(bx, v[4 * q + k].x);
-            ay = std::min(ay, v[4 * q + k].y);
-            by = std::max(by, v[4 * q + k].y);
-        }
-        const int x0 = static_cast<int>(std::lround(ax * kTextScale)), x1 = static_cast<int>(std::lround(bx * kTextScale));
-        const int y0 = static_cast<int>(std::lround(ay * kTextScale)), y1 = static_cast<int>(std::lround(by * kTextScale));
+    for (const detail::GlyphBox& g : detail::glyph_boxes(s)) {
+        const int x0 = static_cast<int>(std::lround(g.x0 * kTextScale)), x1 = static_cast<int>(std::lround(g.x1 * kTextScale));
+        const int y0 = static_cast<int>(std::lround(g.y0 * kTextScale)), y1 = static_cast<int>(std::lround(g.y1 * kTextScale));
         if (!rotated)
             canvas.fill_rect(x + x0, y + y0, x + x1, y + y1, c);
         else
