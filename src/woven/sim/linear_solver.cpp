@@ -89,25 +89,7 @@ void NewtonLinearSolver::factorize(const Eigen::SparseMatrix<double>& H)
 
 bool NewtonLinearSolver::preconditioned_cg(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)
 {
-    const double target = options_.relative_tolerance * rhs.norm();
-    d.setZero(rhs.size());
-    Eigen::VectorXd r = rhs, z = factor_->llt.solve(r), p = z, Hp(rhs.size());
-    double rz = r.dot(z);
-    for (int k = 0; k < options_.max_cg_iterations; ++k) {
-        if (r.norm() <= target) return true;
-        Hp.noalias() = H * p;
-        const double pHp = p.dot(Hp);
-        if (!(pHp > 0)) return false;
-        const double a = rz / pHp;
-        d += a * p;
-        r -= a * Hp;
-        ++cg_iterations_;
-        z = factor_->llt.solve(r);
-        const double rz_next = r.dot(z);
-        p = z + (rz_next / rz) * p;
-        rz = rz_next;
-    }
-    return r.norm() <= target;
+    return truncated_cg(H, rhs, d, options_.relative_tolerance, options_.max_cg_iterations) == CgEnd::CONVERGED;
 }
 
 NewtonLinearSolver::CgEnd NewtonLinearSolver::truncated_cg(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& rhs, Eigen::VectorXd& d,
