@@ -19,10 +19,12 @@
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/progress.hpp"
+#include "woven/cli/run_checks.hpp"
 #include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_set.hpp"
 #include "woven/io/surface_file.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/image.hpp"
@@ -166,6 +168,15 @@ int run_cusick(const CusickCommandOptions& o)
         throw InputError("command line", opt, what.substr(what.find(f + ": ") + f.size() + 2));
     }
     make_output_dir(out_dir);
+    // Every file of the set, known before the runs: published together, cusick.json last
+    // (io::OutputSet), so an interrupted or failed run never leaves a mixed directory.
+    std::vector<std::string> members{"cusick.obj", "drape.png"};
+    for (int k = 0; k < runs; ++k)
+        members.push_back(runs == 1 ? "shadow.png" : "shadow-seed" + std::to_string(seed0 + static_cast<std::uint64_t>(k)) + ".png");
+    members.push_back("cusick.json");
+    check_output_targets(out_dir, members);
+    members.pop_back();
+    io::OutputSet set(out_dir, members);
     install_interrupt_handler();
 
     // 2. The runs: seeds seed0, seed0 + 1, ...
@@ -175,7 +186,6 @@ int run_cusick(const CusickCommandOptions& o)
     nlohmann::json run_list = nlohmann::json::array();
     std::vector<double> dcs;
     std::vector<int> counts;
-    std::vector<std::string> written;
     const auto out = [&](const std::string& f) { return join_path(out_dir, f); };
     bool all_converged = true, interrupted = false;
     nlohmann::json first;
@@ -209,17 +219,16 @@ int run_cusick(const CusickCommandOptions& o)
         counts.push_back(nd.count());
         const std::string suffix = runs == 1 ? "" : "-seed" + std::to_string(ck.solver.seed);
         const std::string shadow_name = "shadow" + suffix + ".png";
-        render::write_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()), out(shadow_name));
-        written.push_back(shadow_name);
+        for (const Vec3& p : r.drape.x)
+            if (!p.allFinite()) throw RuntimeError("cusick: the drape of seed " + std::to_string(ck.solver.seed) + " ended with non-finite positions; no outputs written");
+        render::write_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()), set.temp_path(shadow_name));
+        set.added(shadow_name);
         if (k == 0) {
-            io::write_file_atomic(
-                out("cusick.obj"),
-                io::surface_obj(r.surface, r.surface_uv,
-                                "cusick: draped specimen, fabric " + name + ", spacing " + std::to_string(r.spacing_m) + " m"));
-            written.push_back("cusick.obj");
-            if (!o.no_render) {
-                render::write_png(drape_picture(r, setup, fabric), out("drape.png"));
-                written.push_back("drape.png");
+            set.add("cusick.obj", io::surface_obj(r.surface, r.surface_uv,
+                                                  "cusick: draped specimen, fabric " + name + ", spacing " + std::to_string(r.spacing_m) + " m"));
+            if (!o.no_render && !interrupt_requested()) {
+                render::write_png(drape_picture(r, setup, fabric), set.temp_path("drape.png"));
+                set.added("drape.png");
             }
             first = j;
         }
@@ -264,11 +273,12 @@ int run_cusick(const CusickCommandOptions& o)
         for (const auto& [c, m] : per) pj[std::to_string(c)] = m;
         rep["runs_per_node_count"] = pj;
     }
-    io::write_file_atomic(out("cusick.json"), rep.dump(2) + "\n");
-    written.push_back("cusick.json");
+    require_finite(rep, "cusick");
+    rep["files"] = set.files_json();
+    set.publish("cusick.json", rep.dump(2) + "\n");
     std::cout << "wrote";
-    for (const auto& w : written) std::cout << " " << out(w);
-    std::cout << "\n";
+    for (const auto& w : set.names()) std::cout << " " << out(w);
+    std::cout << " " << out("cusick.json") << "\n";
     if (interrupted) {
         std::cerr << "woven: interrupted; the outputs hold the runs done (not converged)\n";
         return interrupted_exit_code();
