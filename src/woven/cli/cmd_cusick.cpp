@@ -137,8 +137,8 @@ render::Image drape_picture(const testers::CusickResult& r, const testers::Cusic
 std::string angles_text(const std::vector<double>& a)
 {
     std::ostringstream o;
-    o << std::fixed << std::setprecision(0);
-    for (size_t k = 0; k < a.size(); ++k) o << (k ? " " : "") << a[k];
+    // Whole degrees in [0, 360): 359.9997 is printed as 0, not 360.
+    for (size_t k = 0; k < a.size(); ++k) o << (k ? " " : "") << static_cast<long>(std::lround(a[k])) % 360;
     return o.str();
 }
 
