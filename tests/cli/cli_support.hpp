@@ -39,6 +39,33 @@ inline std::string slurp(const std::filesystem::path& p)
 
 inline void write(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
+/// `s` with the first `from` replaced by `to` (a test failure if `from` is not there).
+inline std::string replace(std::string s, const std::string& from, const std::string& to)
+{
+    const auto at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) s.replace(at, from.size(), to);
+    return s;
+}
+
+/// Exactly one line, newline-terminated (the form of every error message).
+inline bool one_line(const std::string& s) { return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1; }
+
+/// A 0.3 m cloth, 9 x 9, over a sphere on a floor: the command-line tests' small scene.
+inline const std::string kTinyScene = R"(name = "tiny"
+[cloth]
+size_m = [0.3, 0.3]
+grid = [9, 9]
+height_m = 0.12
+fabric = "cotton"
+[[obstacle]]
+type = "plane"
+[[obstacle]]
+type = "sphere"
+centre_m = [0.0, 0.0, 0.05]
+radius_m = 0.05
+)";
+
 /// A fresh temporary directory per test (dir_, named after the test), removed afterwards, and
 /// woven run inside it.
 class WovenProcessTest : public ::testing::Test {

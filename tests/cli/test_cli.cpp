@@ -23,8 +23,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using woven::test::kTinyScene;
+using woven::test::one_line;
 using woven::test::Outcome;
 using woven::test::quote;
+using woven::test::replace;
 using woven::test::slurp;
 using woven::test::write;
 
@@ -38,36 +41,15 @@ protected:
         return n;
     }
 
+    /// `args` is refused as bad usage: exit 2, one line on stderr, `not_written` not created.
+    void expect_rejected(const std::string& args, const fs::path& not_written)
+    {
+        const Outcome b = woven(args);
+        EXPECT_EQ(b.code, 2) << args << ": " << b.err;
+        EXPECT_TRUE(one_line(b.err)) << args << ": " << b.err;
+        EXPECT_FALSE(fs::exists(dir_ / not_written)) << args;
+    }
 };
-
-/// A 0.3 m cloth, 9 x 9, over a sphere on a floor.
-const char* kTinyScene = R"(name = "tiny"
-description = "test scene"
-[cloth]
-size_m = [0.3, 0.3]
-grid = [9, 9]
-height_m = 0.12
-fabric = "cotton"
-[[obstacle]]
-type = "plane"
-[[obstacle]]
-type = "sphere"
-centre_m = [0.0, 0.0, 0.05]
-radius_m = 0.05
-)";
-
-std::string replace(std::string s, const std::string& from, const std::string& to)
-{
-    const auto at = s.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) s.replace(at, from.size(), to);
-    return s;
-}
-
-bool one_line(const std::string& s)
-{
-    return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1;
-}
 
 TEST_F(Cli, VersionPrintsTheVersion)
 {
@@ -424,12 +406,8 @@ TEST_F(Cli, RenderDrawsADrapedMeshAndRejectsBadOptions)
 
     for (const char* bad : {"render d/drape.obj --size 0x10 --out x.png", "render d/drape.obj --size big --out x.png",
                             "render d/drape.obj --view sideways --out x.png", "render nothere.obj --out x.png",
-                            "render d/drape.obj --scene nothere.toml --out x.png"}) {
-        const Outcome b = woven(bad);
-        EXPECT_EQ(b.code, 2) << bad << ": " << b.err;
-        EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << bad << ": " << b.err;
-        EXPECT_FALSE(fs::exists(dir_ / "x.png")) << bad;
-    }
+                            "render d/drape.obj --scene nothere.toml --out x.png"})
+        expect_rejected(bad, "x.png");
 }
 
 /// woven experiment: help on every experiment, and bad names and options rejected before any
@@ -441,10 +419,6 @@ TEST_F(Cli, ExperimentHelpAndBadOptions)
     for (const char* name : {"cube", "map", "figure1"}) EXPECT_NE(h.out.find(name), std::string::npos) << name;
     for (const char* bad : {"experiment", "experiment chair --out e", "experiment cube --seeds 0 --out e",
                             "experiment cube --grid 2 --out e", "experiment map --map-grid 5y4 --out e",
-                            "experiment map --reuse nothere.json --out e"}) {
-        const Outcome b = woven(bad);
-        EXPECT_EQ(b.code, 2) << bad << ": " << b.err;
-        EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << bad << ": " << b.err;
-        EXPECT_FALSE(fs::exists(dir_ / "e")) << bad;
-    }
+                            "experiment map --reuse nothere.json --out e"})
+        expect_rejected(bad, "e");
 }

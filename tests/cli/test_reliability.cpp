@@ -31,7 +31,9 @@ using woven::test::quote;
 using woven::test::slurp;
 using woven::test::write;
 
-bool one_line(const std::string& s) { return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1; }
+using woven::test::kTinyScene;
+using woven::test::one_line;
+using woven::test::replace;
 
 /// The documented form of an error: "woven: error: <source>: <field>: <what is expected>",
 /// where <source> may carry ":<line>[:<column>]".
@@ -40,21 +42,6 @@ bool documented_form(const std::string& err)
     static const std::regex form(R"(woven: error: [^:\n]+(:[0-9]+){0,2}: [^\n:]+: [^\n]+\n)");
     return std::regex_match(err, form);
 }
-
-/// A 0.3 m cloth, 9 x 9, over a sphere on a floor.
-const std::string kTinyScene = R"(name = "tiny"
-[cloth]
-size_m = [0.3, 0.3]
-grid = [9, 9]
-height_m = 0.12
-fabric = "cotton"
-[[obstacle]]
-type = "plane"
-[[obstacle]]
-type = "sphere"
-centre_m = [0.0, 0.0, 0.05]
-radius_m = 0.05
-)";
 
 const std::string kFabric = R"(name = "probe"
 source = "test"
@@ -70,14 +57,6 @@ G = 0.5
 2HG = 0.5
 2HG5 = 1.0
 )";
-
-std::string replace(std::string s, const std::string& from, const std::string& to)
-{
-    const auto at = s.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) s.replace(at, from.size(), to);
-    return s;
-}
 
 class Reliability : public woven::test::WovenProcessTest {
 protected:
@@ -244,8 +223,11 @@ TEST_F(Reliability, Defect06OutputSetsAreAtomic)
         ::waitpid(pid, &status, 0);
     }
     EXPECT_EQ(slurp(dir_ / "res" / "report.json"), old_report);
-    for (const auto& e : fs::directory_iterator(dir_ / "res"))
-        if (e.path().filename().string().rfind(".woven-tmp.", 0) != 0) EXPECT_TRUE(fs::is_regular_file(e.path()));
+    for (const auto& e : fs::directory_iterator(dir_ / "res")) {
+        if (e.path().filename().string().rfind(".woven-tmp.", 0) != 0) {
+            EXPECT_TRUE(fs::is_regular_file(e.path()));
+        }
+    }
 
     // The next run removes the dead run's temporaries and publishes a complete set.
     ASSERT_EQ(woven("drape tiny.toml --max-steps 1 --out res --no-render").code, 0);
@@ -470,6 +452,14 @@ TEST_F(Reliability, EveryBadInputClassKeepsTheDocumentedForm)
         {"option solver", "", "", "drape tiny.toml --solver slow"},
         {"unknown option", "", "", "drape tiny.toml --no-such-option"},
         {"unknown command", "", "", "nosuchcommand"},
+        {"kes-test spacing", "", "", "kes-test cotton --sigma-cm 5"},
+        {"kes-test test", "", "", "kes-test cotton --test stretch"},
+        {"kes-test direction", "", "", "kes-test cotton --direction bias"},
+        {"kes-test form", "", "", "kes-test cotton --bending-form x"},
+        {"kes-test shear length", "", "", "kes-test cotton --shear-length-cm 1"},
+        {"cusick spacing", "", "", "cusick cotton --spacing-cm 5"},
+        {"render size", "", "", "render none.obj --size 0x0"},
+        {"experiment name", "", "", "experiment chair"},
     };
     write(dir_ / "m.obj", "v 0 0 0\nv 1 0 zz\nv 0 1 0\nf 1 2 3\n");
     for (const auto& c : cases) {

@@ -11,8 +11,6 @@ namespace woven::cli {
 
 namespace {
 
-const std::string kCommandLine = "command line";
-
 std::string shown(const std::string& text) { return "'" + text.substr(0, 40) + (text.size() > 40 ? "...'" : "'"); }
 
 }  // namespace

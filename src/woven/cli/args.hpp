@@ -7,6 +7,9 @@
 
 namespace woven::cli {
 
+/// The source named by errors in command-line values.
+inline constexpr const char* kCommandLine = "command line";
+
 /// An integer in [lo, hi] ("command line: --threads: expected an integer in [0, 4096], got '-1'").
 long long parse_integer(const std::string& text, const std::string& option, long long lo, long long hi);
 /// An unsigned 64-bit integer (a seed: 0 .. 18446744073709551615, nothing clamped).

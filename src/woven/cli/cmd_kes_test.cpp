@@ -55,20 +55,6 @@ std::string fmt(double v, int digits = 6)
     return buf;
 }
 
-double parse_sigma(const std::string& text)
-{
-    std::size_t used = 0;
-    double v = 0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !std::isfinite(v) || !(v >= 0.02 && v <= 2.0))
-        throw InputError("--sigma-cm", "", "expected a particle spacing in cm between 0.02 and 2, got '" + text + "'");
-    return v;
-}
-
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
 /// One line of the table and one entry of kes-report.json.
@@ -197,14 +183,14 @@ int run_kes_test(const KesTestOptions& options)
     const bool run_bending = options.test == "all" || options.test == "bending";
     const bool run_shear = options.test == "all" || options.test == "shear";
     if (!run_cantilever && !run_bending && !run_shear)
-        throw InputError("--test", "", "expected cantilever, bending, shear or all, got '" + options.test + "'");
+        throw InputError(kCommandLine, "--test", "expected cantilever, bending, shear or all, got '" + options.test + "'");
     if (options.convergence && !run_cantilever)
-        throw InputError("--convergence", "", "is a study of the cantilever test; use it with --test cantilever or all");
+        throw InputError(kCommandLine, "--convergence", "expected --test cantilever or all (a study of the cantilever test)");
     std::vector<testers::Direction> directions;
     if (options.direction == "warp" || options.direction == "both") directions.push_back(testers::Direction::WARP);
     if (options.direction == "weft" || options.direction == "both") directions.push_back(testers::Direction::WEFT);
-    if (directions.empty()) throw InputError("--direction", "", "expected warp, weft or both, got '" + options.direction + "'");
-    const std::optional<double> sigma_cm = options.sigma_cm ? std::optional<double>(parse_sigma(*options.sigma_cm)) : std::nullopt;
+    if (directions.empty()) throw InputError(kCommandLine, "--direction", "expected warp, weft or both, got '" + options.direction + "'");
+    const std::optional<double> sigma_cm = options.sigma_cm ? std::optional<double>(parse_number(*options.sigma_cm, "--sigma-cm", 0.02, 2.0)) : std::nullopt;
     model::ModelOptions mo;
     if (options.bending_form) {
         if (*options.bending_form == "work")
@@ -212,7 +198,7 @@ int run_kes_test(const KesTestOptions& options)
         else if (*options.bending_form == "secant")
             mo.bending_form = model::BendingForm::SECANT;
         else
-            throw InputError("--bending-form", "", "expected work or secant, got '" + *options.bending_form + "'");
+            throw InputError(kCommandLine, "--bending-form", "expected work or secant, got '" + *options.bending_form + "'");
     }
     if (options.discretization) {
         if (*options.discretization == "convergent")
@@ -220,9 +206,9 @@ int run_kes_test(const KesTestOptions& options)
         else if (*options.discretization == "paper")
             mo.discretization = model::Discretization::PAPER;
         else
-            throw InputError("--discretization", "", "expected convergent or paper, got '" + *options.discretization + "'");
+            throw InputError(kCommandLine, "--discretization", "expected convergent or paper, got '" + *options.discretization + "'");
     }
-    if (options.out && options.out->empty()) throw InputError("--out", "", "expected a directory, got an empty path");
+    if (options.out) parse_path(*options.out, "--out");
     std::vector<std::string> warnings;
     const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
     print_warnings(warnings);
