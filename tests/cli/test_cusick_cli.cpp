@@ -63,6 +63,8 @@ TEST_F(CusickCli, ASmallSpecimenWritesEveryOutput)
     const auto j = nlohmann::json::parse(in);
     EXPECT_NEAR(j.at("specimen_area_m2").get<double>(), 3.14159265358979 * 0.06 * 0.06, 1e-12);
     EXPECT_DOUBLE_EQ(j.at("spacing_m").get<double>(), 0.01);
+    EXPECT_DOUBLE_EQ(j.at("clamp_radius_m").get<double>(), 0.03 + 0.005);  // r_d + sigma / 2
+    EXPECT_DOUBLE_EQ(j.at("perturbation_m").get<double>(), 0.001);
     ASSERT_EQ(j.at("runs").size(), 2u);
     for (const char* k : {"drape_coefficient_percent", "nodes", "node_angles_deg", "node_depths_m", "converged", "drape_coefficient_mean",
                           "drape_coefficient_std", "nodes_per_run", "runs_per_node_count"})

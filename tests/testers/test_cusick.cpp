@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -69,15 +70,49 @@ TEST(Cusick, SetupIsTheStandardInstrument)
     EXPECT_EQ(s.grid.nu, 33);  // 2 ceil(0.15 / 0.01) + 3
     EXPECT_NEAR(s.cut.total_area, kPi * 0.15 * 0.15, 1e-14);
     EXPECT_EQ(s.obstacles.size(), 3u);  // floor, pedestal, disc
-    // Clamped: every kept particle within the disc's 9 cm, nothing else.
+    // Clamped: every kept particle within the disc's 9 cm plus half a spacing, nothing else.
     int inside = 0;
     for (int j = 0; j < s.grid.nv; ++j)
         for (int i = 0; i < s.grid.nu; ++i)
-            inside += s.cut.active[s.grid.index(i, j)] && woven::model::rest_uv(s.grid, i, j).norm() <= 0.09;
+            inside += s.cut.active[s.grid.index(i, j)] && woven::model::rest_uv(s.grid, i, j).norm() <= 0.09 + 0.005;
     EXPECT_EQ(static_cast<int>(s.clamped.size()), inside);
     // The floor lies further below the disc than the hanging part can reach.
     EXPECT_GT(s.disc_top_z, 0.15 - 0.09);
     for (const auto& p : s.initial) EXPECT_GT(p.z(), s.disc_top_z);
+}
+
+TEST(Cusick, ASeedIsOneStartAtEverySpacing)
+{
+    // The seeded waviness is a function of the rest position: the 1 cm grid's particles are
+    // particles of the 0.5 cm grid too (both centred), and start at the same height.
+    t::CusickOptions coarse_options = coarse(7), fine_options = coarse(7);
+    fine_options.spacing_m = 0.005;
+    const t::CusickSetup a = t::make_cusick_setup(coarse_options), b = t::make_cusick_setup(fine_options);
+    const int ca = a.grid.nu / 2, cb = b.grid.nu / 2;  // the centre particle
+    std::vector<char> held_a(a.initial.size(), 0), held_b(b.initial.size(), 0);
+    for (int p : a.clamped) held_a[p] = 1;
+    for (int q : b.clamped) held_b[q] = 1;
+    double largest = 0;
+    int compared = 0;
+    for (int j = 0; j < a.grid.nv; ++j)
+        for (int i = 0; i < a.grid.nu; ++i) {
+            const int p = a.grid.index(i, j), q = b.grid.index(cb + 2 * (i - ca), cb + 2 * (j - ca));
+            if (!a.cut.active[p]) continue;
+            ASSERT_TRUE(b.cut.active[q]);
+            if (held_a[p] || held_b[q]) continue;  // the clamps differ by half a spacing
+            EXPECT_NEAR(a.initial[p].z() - a.initial[a.clamped.front()].z(), b.initial[q].z() - b.initial[b.clamped.front()].z(), 1e-15);
+            EXPECT_NEAR(a.initial[p].x(), b.initial[q].x(), 1e-15);
+            largest = std::max(largest, std::abs(a.initial[p].z() - a.initial[a.clamped.front()].z()));
+            ++compared;
+        }
+    EXPECT_GT(compared, 350);  // the free particles of the 1 cm grid (408)
+    EXPECT_GT(largest, 0.3e-3);   // a real waviness ...
+    EXPECT_LE(largest, 1e-3);     // ... within perturbation_m
+    // Another seed, another start.
+    const t::CusickSetup c = t::make_cusick_setup(coarse(8));
+    double differ = 0;
+    for (size_t p = 0; p < c.initial.size(); ++p) differ = std::max(differ, std::abs(c.initial[p].z() - a.initial[p].z()));
+    EXPECT_GT(differ, 0.2e-3);
 }
 
 TEST(Cusick, BadSizesAreErrorsNamingTheField)

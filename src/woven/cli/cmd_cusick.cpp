@@ -250,6 +250,8 @@ int run_cusick(const CusickCommandOptions& o)
     rep["grid"] = {setup.grid.nu, setup.grid.nv};
     rep["particles"] = setup.cut.count;
     rep["clamped_particles"] = setup.clamped.size();
+    rep["clamp_radius_m"] = setup.clamp_radius;
+    rep["perturbation_m"] = co.perturbation_m;
     rep["specimen_area_m2"] = setup.cut.total_area;
     rep["specimen_mass_kg"] = setup.cut.total_area * fabric.areal_density_mg_cm2 * 1e-2;
     rep["angle_reference"] = "0 deg = warp (+y, grid v), 90 deg = weft (+x, grid u), seen from above";

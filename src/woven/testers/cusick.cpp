@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <random>
 #include <sstream>
 #include <string>
@@ -18,6 +19,11 @@ constexpr const char* kSource = "cusick";
 constexpr double kFloorClearance = 0.10;
 /// Most particles in the grid (a 30 cm specimen at 0.5 mm): beyond, a run would not end.
 constexpr double kMaxParticles = 400000;
+/// Angular modes of the seeded start's waviness (1 .. this).
+constexpr int kPerturbationModes = 12;
+
+/// Uniform in [0, 1) from a mt19937_64 draw, the same on every platform.
+double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
 
 std::string num(double v)
 {
@@ -62,17 +68,33 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
 
     const double gap = o.start_gap_m > 0 ? o.start_gap_m : 2 * o.solver.contact_distance;
     c.initial = model::flat_grid(c.grid, Vec3(0, 0, c.disc_top_z + gap));
+    // The seeded start: a waviness of the hanging part, a function of the rest position alone
+    // (so one seed is one physical start at every spacing): modes k = 1 .. kPerturbationModes
+    // around the disc, random amplitudes and phases, growing linearly from the clamp's edge to
+    // the specimen's, largest offset perturbation_m.
     std::mt19937_64 rng(o.solver.seed);
+    double amplitude[kPerturbationModes], phase[kPerturbationModes], amplitude_sum = 0;
+    for (int k = 0; k < kPerturbationModes; ++k) {
+        amplitude[k] = uniform01(rng);
+        phase[k] = 2 * std::numbers::pi * uniform01(rng);
+        amplitude_sum += amplitude[k];
+    }
+    c.clamp_radius = rd + kCusickClampMargin * s;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const int p = c.grid.index(i, j);
             if (!c.cut.active[p]) continue;
-            if (model::rest_uv(c.grid, i, j).norm() <= rd) {
+            const Vec2 uv = model::rest_uv(c.grid, i, j);
+            const double r = uv.norm();
+            if (r <= c.clamp_radius) {
                 c.clamped.push_back(p);
-            } else if (o.perturbation_m > 0) {
-                const double u = static_cast<double>(rng() >> 11) * 0x1p-53;  // uniform in [0, 1), portable
-                c.initial[p].z() += o.perturbation_m * (2 * u - 1);
+                continue;
             }
+            if (!(o.perturbation_m > 0)) continue;
+            const double theta = std::atan2(uv.y(), uv.x());
+            double wave = 0;
+            for (int k = 0; k < kPerturbationModes; ++k) wave += amplitude[k] * std::cos((k + 1) * theta + phase[k]);
+            c.initial[p].z() += o.perturbation_m * std::min(1.0, (r - rd) / (R - rd)) * wave / amplitude_sum;
         }
     return c;
 }
@@ -86,9 +108,13 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     problem.obstacles = &setup.obstacles;
     problem.initial = setup.initial;
     problem.pinned = setup.clamped;
+    // The tester's own seeded start replaces the solver's per-particle one (which differs with
+    // the spacing); without it (perturbation_m = 0) the solver's is kept.
+    sim::SolverOptions solver = options.solver;
+    if (options.perturbation_m > 0) solver.perturbation = 0;
 
     CusickResult r;
-    r.drape = sim::drape(problem, options.solver, progress);
+    r.drape = sim::drape(problem, solver, progress);
     r.surface = model::cut_surface(setup.grid, setup.cut, r.drape.x, &r.surface_uv);
     r.spacing_m = setup.grid.sigma;
     r.specimen_area_m2 = setup.cut.total_area;

@@ -13,8 +13,9 @@
 //     |                    ||                    |
 //   ======================================================  floor (z = 0), R - r_d + 0.1 m below
 //
-// The upper clamping disc is modelled by pinning the particles within the disc's radius at
-// their flat start; the hanging part meets the support disc's rim as an obstacle.
+// The upper clamping disc is modelled by pinning the particles within r_d + sigma/2 of the
+// centre (kCusickClampMargin) at their flat start; the hanging part meets the support disc's
+// rim as an obstacle.
 #include <cstdint>
 
 #include "woven/analysis/drape_shadow.hpp"
@@ -31,6 +32,12 @@ namespace woven::testers {
 /// coefficient has converged to within a percentage point (docs/CUSICK.md).
 inline constexpr double kCusickDefaultSpacing = 0.005;
 
+/// The clamp: the particles within r_d + this x spacing of the centre are pinned. A grid
+/// particle's bending term stands for its sigma-wide dual cell, so pinned rows up to x = r_d +
+/// sigma/2 hold the cloth flat up to x = r_d, where the free cloth's first bending cell begins
+/// (the instruments' clamp line lies midway between pinned rows for the same reason).
+inline constexpr double kCusickClampMargin = 0.5;
+
 /// The instrument's settings (SI).
 struct CusickOptions {
     double specimen_diameter_m = 0.30;  ///< the standard's; 0.24 and 0.36 m are also used
@@ -41,10 +48,12 @@ struct CusickOptions {
     /// Height of the flat start above the support disc's top (m); 0: twice the solver's contact
     /// distance.
     double start_gap_m = 0;
-    /// Largest random vertical offset of each free particle in the flat start (m): real
-    /// specimens never lie perfectly flat, and a perfectly flat start would drape with the
-    /// square grid's symmetry. Drawn uniformly in [-a, a] from solver.seed (mt19937_64, the
-    /// same on every platform); 0: none.
+    /// Largest vertical offset of the seeded start's waviness (m): real specimens never lie
+    /// perfectly flat, and a perfectly flat start would drape with the square grid's symmetry.
+    /// A smooth function of the rest position (angular modes 1-12 with amplitudes and phases
+    /// drawn from solver.seed, mt19937_64, the same on every platform; zero at the clamp, full
+    /// at the edge), so a seed is the same start at every spacing; it replaces the solver's
+    /// per-particle perturbation. 0: none (the solver's perturbation then applies).
     double perturbation_m = 0.001;
     model::ModelOptions model;
     sim::SolverOptions solver;  ///< its seed and perturbation make the run-to-run variation
@@ -56,10 +65,11 @@ struct CusickSetup {
     model::Grid grid;                 ///< covers the specimen and a ring of particles around it
     model::Outline outline;           ///< the specimen's disc
     model::ClothCut cut;              ///< the particles kept, their areas
-    std::vector<int> clamped;         ///< kept particles within the disc's radius (pinned)
+    std::vector<int> clamped;         ///< kept particles within r_d + kCusickClampMargin sigma (pinned)
     geometry::ObstacleSet obstacles;  ///< floor, pedestal, support disc
     Positions initial;                ///< flat, start_gap_m above the disc, perturbed, one per grid particle
     double disc_top_z = 0;            ///< m
+    double clamp_radius = 0;          ///< r_d + kCusickClampMargin sigma (m): the pinned particles' reach
 };
 
 /// Builds the instrument (the perturbation drawn from options.solver.seed). Throws InputError("command line", "--specimen-cm" / "--disc-cm" /
