@@ -195,49 +195,6 @@ std::vector<double> shadow_radius(const geometry::TriangleMesh& mesh, const Vec2
     return r;
 }
 
-std::vector<Peak> periodic_peaks(const std::vector<double>& values, double min_prominence)
-{
-    if (!(min_prominence > 0)) throw InputError(kWhere, "min_prominence", "expected a positive prominence");
-    const int n = static_cast<int>(values.size());
-    if (n < 3) throw InputError(kWhere, "values", "expected at least 3 samples");
-    // Start at the global minimum and close the loop with it: then every maximum lies strictly
-    // inside s[0..n], and the wrap-around needs no special case.
-    const int m = static_cast<int>(std::min_element(values.begin(), values.end()) - values.begin());
-    std::vector<double> s(n + 1);
-    for (int k = 0; k <= n; ++k) s[k] = values[(m + k) % n];
-    std::vector<Peak> peaks;
-    int k = 1;
-    while (k < n) {
-        if (s[k] > s[k - 1]) {
-            int j = k;
-            while (j + 1 <= n && s[j + 1] == s[k]) ++j;
-            if (j + 1 <= n && s[j + 1] < s[k]) {
-                // Plateau [k, j]: higher ground is the first sample above s[k] on each side.
-                const double top = s[k];
-                double left = top, right = top;
-                for (int a = k - 1; a >= 0 && s[a] <= top; --a) left = std::min(left, s[a]);
-                for (int b = j + 1; b <= n && s[b] <= top; ++b) right = std::min(right, s[b]);
-                const double prominence = top - std::max(left, right);
-                if (prominence >= min_prominence) {
-                    double idx = 0.5 * (k + j);
-                    if (j == k) {
-                        const double ym = s[k - 1], y0 = s[k], yp = s[k + 1];
-                        const double den = ym - 2 * y0 + yp;
-                        if (den < 0) idx += 0.5 * (ym - yp) / den;
-                    }
-                    idx = std::fmod(idx + m + n, static_cast<double>(n));  // in [0, n): the parabola may step below 0
-                    peaks.push_back({idx, top, prominence});
-                }
-            }
-            k = j + 1;
-        } else {
-            ++k;
-        }
-    }
-    std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.index < b.index; });
-    return peaks;
-}
-
 double drape_coefficient_percent(double shadow_area_m2, double disc_area_m2, double specimen_area_m2)
 {
     if (!(disc_area_m2 > 0) || !(specimen_area_m2 > disc_area_m2) || !std::isfinite(specimen_area_m2))

@@ -21,6 +21,7 @@
 // Lengths in m, areas in m^2, angles in degrees.
 #include <vector>
 
+#include "woven/analysis/peaks.hpp"
 #include "woven/common/types.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
 
@@ -55,19 +56,6 @@ ShadowRaster rasterize_shadow(const geometry::TriangleMesh& mesh, const Vec2& or
 /// shadow as a function of angle (re-entrant parts behind it are ignored). 0 where no face
 /// meets the ray. Throws InputError if n < 8.
 std::vector<double> shadow_radius(const geometry::TriangleMesh& mesh, const Vec2& centre, int n = 1440);
-
-/// A maximum of a periodic sequence.
-struct Peak {
-    double index = 0;       ///< position, in samples, refined by a parabola through the top three, in [0, n)
-    double value = 0;       ///< the sample value at the top
-    double prominence = 0;  ///< top minus the higher of the two minima separating it from higher ground
-};
-
-/// The maxima of the periodic sequence `values` with topographic prominence >= min_prominence,
-/// sorted by index. A plateau counts once, at its middle; the sequence wraps around, so a
-/// maximum at index 0 or spanning the end is found once. A constant sequence has none. Throws
-/// InputError if min_prominence <= 0 or values has fewer than 3 samples.
-std::vector<Peak> periodic_peaks(const std::vector<double>& values, double min_prominence);
 
 /// The drape coefficient DC = (A_shadow - A_disc) / (A_specimen - A_disc) x 100 (%). Throws
 /// InputError unless 0 < A_disc < A_specimen.

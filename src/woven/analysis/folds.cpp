@@ -7,6 +7,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "woven/analysis/peaks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/geometry/primitives.hpp"
 
@@ -187,48 +188,16 @@ std::vector<Billow> find_billows(const Section& section, const BoxFootprint& box
     std::vector<double> d(n);
     for (int i = 0; i < n; ++i) d[i] = box.distance(section.points[i].head<2>());
 
-    // A loop has no start: read it from its lowest point round to the same point again, so that
-    // no maximum is cut in two and the ends are the global minimum (prominence is then exact).
-    int start = 0;
-    std::vector<double> a;
-    if (section.closed) {
-        start = static_cast<int>(std::min_element(d.begin(), d.end()) - d.begin());
-        a.resize(n + 1);
-        for (int k = 0; k <= n; ++k) a[k] = d[(start + k) % n];
-    } else {
-        a = d;
-    }
-    const int m = static_cast<int>(a.size());
-    for (int i = 1; i + 1 < m;) {
-        if (!(a[i] > a[i - 1])) {
-            ++i;
-            continue;
-        }
-        int j = i;  // plateau [i, j]
-        while (j + 1 < m && a[j + 1] == a[i]) ++j;
-        if (j + 1 >= m || a[j + 1] > a[i]) {
-            i = j + 1;
-            continue;
-        }
-        const int peak = (i + j) / 2;
-        const double h = a[peak];
-        // Prominence: the higher of the lowest points between the peak and higher ground (or an end).
-        double left = h, right = h;
-        for (int k = i - 1; k >= 0 && a[k] <= h; --k) left = std::min(left, a[k]);
-        for (int k = j + 1; k < m && a[k] <= h; ++k) right = std::min(right, a[k]);
-        const double prominence = h - std::max(left, right);
-        if (prominence >= prominence_m) {
-            Billow b;
-            b.point = section.points[(start + peak) % n];
-            const Vec2 p = b.point.head<2>();
-            b.corner = box.quadrant(p);
-            const Vec2 diag = box.diagonal(b.corner), v = p - box.corner(b.corner);
-            b.angle_deg = std::atan2(cross2(diag, v), diag.dot(v)) * kDegPerRad;
-            b.standout_m = h;
-            b.prominence_m = prominence;
-            billows.push_back(b);
-        }
-        i = j + 1;
+    for (const Peak& p : prominent_peaks(d, prominence_m, section.closed ? SequenceEnds::PERIODIC : SequenceEnds::OPEN)) {
+        Billow b;
+        b.point = section.points[p.sample];
+        const Vec2 q = b.point.head<2>();
+        b.corner = box.quadrant(q);
+        const Vec2 diag = box.diagonal(b.corner), v = q - box.corner(b.corner);
+        b.angle_deg = std::atan2(cross2(diag, v), diag.dot(v)) * kDegPerRad;
+        b.standout_m = p.value;
+        b.prominence_m = p.prominence;
+        billows.push_back(b);
     }
     std::sort(billows.begin(), billows.end(),
               [](const Billow& x, const Billow& y) { return x.corner != y.corner ? x.corner < y.corner : x.angle_deg < y.angle_deg; });
