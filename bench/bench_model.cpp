@@ -1,11 +1,13 @@
 // Micro benchmarks of the model and the fast solver's pieces on n x n grids (n = 51, 101, 201;
 // the argument of each benchmark): energy, gradient, projected Hessian assembly, the neighbour
-// search, one Newton linear solve (factorisation + solve, and a solve reusing the factor), and
+// search, one Newton linear solve (analysis + factorisation + solve, the numeric factorisation
+// alone, and a solve reusing the factor), and
 // an obstacle query on a triangle mesh (the chair). Times per call; "per particle" counters
 // divide by n^2. Run: make bench, or build/bench/bench_model --benchmark_filter=...
 #include <random>
 #include <string>
 
+#include <Eigen/CholmodSupport>
 #include <benchmark/benchmark.h>
 
 #include "sim/sim_fixtures.hpp"
@@ -100,6 +102,28 @@ void newton_solve_factorise(benchmark::State& state)
     per_particle(state, s.grid.size());
 }
 
+/// The numeric factorisation alone, the symbolic analysis (ordering) done once, as in a drape
+/// (which analyses again only when the self-contact pattern changes). CHOLMOD supernodal with
+/// the nested-dissection ordering of linear_solver.cpp.
+void newton_refactorise(benchmark::State& state)
+{
+    const Setup s(static_cast<int>(state.range(0)));
+    const sim::SparseAssembly system = s.newton_system();
+    const Eigen::SparseMatrix<double> lower = system.matrix().triangularView<Eigen::Lower>();
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+    llt.cholmod().nmethods = 1;
+    llt.cholmod().method[0].ordering = CHOLMOD_NESDIS;
+    llt.analyzePattern(lower);
+    for (auto _ : state) {
+        llt.factorize(lower);
+        if (llt.info() != Eigen::Success) state.SkipWithError("not positive definite");
+    }
+    per_particle(state, s.grid.size());
+    state.counters["factor_nonzeros"] = llt.cholmod().lnz;  // of L, from the analysis
+    state.counters["factor_flops"] = llt.cholmod().fl;
+    state.counters["matrix_nonzeros"] = static_cast<double>(lower.nonZeros());
+}
+
 /// One Newton linear solve reusing the last factorisation (the common case: CG preconditioned
 /// by the factor of a nearby matrix; here the same matrix).
 void newton_solve_reuse(benchmark::State& state)
@@ -145,6 +169,7 @@ BENCHMARK(gradient) WOVEN_GRIDS;
 BENCHMARK(projected_hessian_assembly) WOVEN_GRIDS;
 BENCHMARK(close_pairs) WOVEN_GRIDS;
 BENCHMARK(newton_solve_factorise) WOVEN_GRIDS;
+BENCHMARK(newton_refactorise) WOVEN_GRIDS;
 BENCHMARK(newton_solve_reuse) WOVEN_GRIDS;
 BENCHMARK(mesh_obstacle_closest) WOVEN_GRIDS;
 

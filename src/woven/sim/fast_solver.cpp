@@ -165,12 +165,13 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
                 newton_converged = true;
                 break;
             }
-            // Dynamic steps: projected Newton. Static steps: truncated Newton-CG on the exact
-            // Hessian preconditioned by the projected one's factor. Near rest the projected
+            // Dynamic steps, and static ones far from rest: projected Newton. Static steps near
+            // rest: truncated Newton-CG on the exact Hessian preconditioned by the projected
+            // one's factor. Near rest the projected
             // terms' dropped negative parts made projected Newton converge linearly (0.92 per
             // iteration on the 51 x 51 cube of d519f62, whose static steps took 104 iterations;
             // 16 with Newton-CG, the same energy to 1e-8).
-            if (static_step && fo.static_newton_cg) {
+            if (static_step && fo.static_newton_cg && g_max < fo.static_newton_cg_below) {
                 if (!exact) exact.emplace(model.stencils(), solver.pinned, extra_pairs);
                 solver.assemble(*exact, x, x_tilde, inv_h2, model::Derivatives::HESSIAN);
                 linear.solve_exact(exact->matrix(), system.matrix(), -g, delta, fo.cg_tolerance);

@@ -1,5 +1,6 @@
 #include "woven/sim/linear_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/CholmodSupport>
@@ -132,7 +133,16 @@ void NewtonLinearSolver::solve_exact(const Eigen::SparseMatrix<double>& A, const
 void NewtonLinearSolver::solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)
 {
     const SerialOpenMP serial;
-    if (factor_->analysed && preconditioned_cg(H, rhs, d)) return;
+    if (factor_->analysed && attempts_to_skip_ == 0) {
+        if (preconditioned_cg(H, rhs, d)) {
+            failed_attempts_ = 0;
+            return;
+        }
+        failed_attempts_ = std::min(failed_attempts_ + 1, 30);
+        attempts_to_skip_ = std::min((1 << failed_attempts_) - 1, options_.max_skipped_attempts);
+    } else if (attempts_to_skip_ > 0) {
+        --attempts_to_skip_;
+    }
     factorize(H);
     d = factor_->llt.solve(rhs);
 }
