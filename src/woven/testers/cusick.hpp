@@ -28,8 +28,9 @@
 
 namespace woven::testers {
 
-/// The default particle spacing of the drape tester (m): the coarsest at which the drape
-/// coefficient has converged to within a percentage point (docs/CUSICK.md).
+/// The default particle spacing of the drape tester (m). From 0.5 to 0.25 cm the mean drape
+/// coefficient over five seeds moves by 0.3 points (denim, silk; the cotton's several stable
+/// drapes by 2.2); 1 cm is too coarse for the soft fabrics (docs/CUSICK.md).
 inline constexpr double kCusickDefaultSpacing = 0.005;
 
 /// The clamp: the particles within r_d + this x spacing of the centre are pinned. A grid
