@@ -8,6 +8,7 @@
 #include <string>
 
 #include <Eigen/CholmodSupport>
+#include <omp.h>
 #include <benchmark/benchmark.h>
 
 #include "sim/sim_fixtures.hpp"
@@ -114,10 +115,15 @@ void newton_refactorise(benchmark::State& state)
     llt.cholmod().nmethods = 1;
     llt.cholmod().method[0].ordering = CHOLMOD_NESDIS;
     llt.analyzePattern(lower);
+    // CHOLMOD's supernodal loops would start their own OpenMP threads: one thread, as in the
+    // drape (linear_solver.cpp's SerialOpenMP).
+    const int levels = omp_get_max_active_levels();
+    omp_set_max_active_levels(0);
     for (auto _ : state) {
         llt.factorize(lower);
         if (llt.info() != Eigen::Success) state.SkipWithError("not positive definite");
     }
+    omp_set_max_active_levels(levels);
     per_particle(state, s.grid.size());
     state.counters["factor_nonzeros"] = llt.cholmod().lnz;  // of L, from the analysis
     state.counters["factor_flops"] = llt.cholmod().fl;

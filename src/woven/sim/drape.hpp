@@ -66,7 +66,7 @@ struct FastSolverOptions {
     /// Far from rest the exact Hessian's CG stops at negative curvature or its iteration cap
     /// with poor steps: the 51 x 51 cube's first static step took 94 iterations of up to 48 CG
     /// iterations each (3356 in all); with projected Newton down to 1 m g, 785 CG iterations
-    /// and 16 % fewer seconds for the whole drape (bench/NOTES.md).
+    /// and 23 % fewer seconds for the whole drape (bench/NOTES.md).
     double static_newton_cg_below = 1.0;
     LineSearchOptions line_search;
 };
