@@ -76,6 +76,41 @@ TEST(NewtonLinearSolver, FarMatrixIsFactorisedAfresh)
     EXPECT_LT((C * x - b).norm(), 1e-10 * b.norm());
 }
 
+TEST(NewtonLinearSolver, AFailedStaleFactorIsNotRetriedAtOnce)
+{
+    // Matrices far apart in turn, so that no stale factor preconditions the next: after k
+    // failed attempts in a row the next 2^k - 1 solves factorise without trying CG (each solve
+    // stays exact), then the stale factor is tried again.
+    const Eigen::VectorXd b = random_vector(400);
+    const int cap = woven::sim::NewtonLinearSolver::Options{}.max_cg_iterations;
+    woven::sim::NewtonLinearSolver solver;
+    Eigen::VectorXd x;
+    int k = 0;
+    auto next = [&] {
+        // As in FarMatrixIsFactorisedAfresh: neither factor preconditions the other.
+        const Eigen::SparseMatrix<double> A = k % 2 ? Eigen::SparseMatrix<double>(grid_matrix(20, 100.0) * 1e3) : grid_matrix(20, 0.01);
+        solver.solve(A, b, x);
+        EXPECT_LT((A * x - b).norm(), 1e-10 * b.norm()) << "solve " << k;
+        ++k;
+    };
+    next();  // the first: factorised
+    EXPECT_EQ(solver.factorizations(), 1);
+    next();  // attempt 1 fails (cap CG iterations), factorised
+    EXPECT_EQ(solver.factorizations(), 2);
+    EXPECT_EQ(solver.cg_iterations(), cap);
+    next();  // skipped (2^1 - 1 = 1): factorised, no CG
+    EXPECT_EQ(solver.factorizations(), 3);
+    EXPECT_EQ(solver.cg_iterations(), cap);
+    next();  // attempt 2 fails, then 3 solves skip it
+    EXPECT_EQ(solver.cg_iterations(), 2 * cap);
+    for (int s = 0; s < 3; ++s) next();
+    EXPECT_EQ(solver.factorizations(), 7);
+    EXPECT_EQ(solver.cg_iterations(), 2 * cap);
+    next();  // attempt 3
+    EXPECT_EQ(solver.cg_iterations(), 3 * cap);
+    EXPECT_EQ(solver.factorizations(), 8);
+}
+
 TEST(NewtonLinearSolver, NearlySingularMatrixIsShiftedNotRejected)
 {
     // A graph Laplacian (constant null vector) less 1e-12 on the diagonal: just short of
