@@ -165,7 +165,7 @@ int run_cusick(const CusickCommandOptions& o)
         const std::string f = e.field();
         const std::string opt = f == "specimen_diameter_m" ? "--specimen-cm" : f == "disc_diameter_m" ? "--disc-cm" : "--spacing-cm";
         const std::string what = e.what();
-        throw InputError("command line", opt, what.substr(what.find(f + ": ") + f.size() + 2));
+        throw InputError(kCommandLine, opt, what.substr(what.find(f + ": ") + f.size() + 2));
     }
     make_output_dir(out_dir);
     // Every file of the set, known before the runs: published together, cusick.json last
@@ -219,8 +219,7 @@ int run_cusick(const CusickCommandOptions& o)
         counts.push_back(nd.count());
         const std::string suffix = runs == 1 ? "" : "-seed" + std::to_string(ck.solver.seed);
         const std::string shadow_name = "shadow" + suffix + ".png";
-        for (const Vec3& p : r.drape.x)
-            if (!p.allFinite()) throw RuntimeError("cusick: the drape of seed " + std::to_string(ck.solver.seed) + " ended with non-finite positions; no outputs written");
+        require_finite_positions(r.drape.x, "cusick: the drape of seed " + std::to_string(ck.solver.seed));
         render::write_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()), set.temp_path(shadow_name));
         set.added(shadow_name);
         if (k == 0) {

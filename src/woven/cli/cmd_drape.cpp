@@ -41,7 +41,6 @@ render::Image render_drape(const Positions& x, const model::Grid& grid, const io
 int run_drape(const DrapeOptions& options)
 {
     // 1. Validate everything: options, scene, fabric, model. Nothing is written before this.
-    const std::string cl = "command line";
     const int width = static_cast<int>(parse_integer(options.width, "--width", 1, 16384));
     const int height = static_cast<int>(parse_integer(options.height, "--height", 1, 16384));
     const std::string out_dir = parse_path(options.out, "--out");
@@ -53,18 +52,18 @@ int run_drape(const DrapeOptions& options)
     ov.fabric = options.fabric;
     if (options.solver) {
         ov.solver = sim::solver_kind_from_string(*options.solver);
-        if (!ov.solver) throw InputError(cl, "--solver", "expected fast or paper");
+        if (!ov.solver) throw InputError(kCommandLine, "--solver", "expected fast or paper");
     }
     if (options.seed) ov.seed = parse_seed(*options.seed, "--seed");
     if (const auto m = parse_integer(options.max_steps, "--max-steps", 0, 1'000'000'000)) ov.max_steps = static_cast<int>(*m);
     if (const auto t = parse_integer(options.threads, "--threads", 0, io::kMaxThreads)) ov.threads = static_cast<int>(*t);
-    io::apply_overrides(scene, ov, cl);
+    io::apply_overrides(scene, ov, kCommandLine);
     if (options.perturb) scene.solver.perturbation = parse_number(*options.perturb, "--perturb", 0, io::kMaxPerturbation_m);
     // Threads and memory before anything large is built.
     const ThreadCount threads = choose_threads(scene.solver.threads);
     scene.solver.threads = threads.used;
     check_memory(static_cast<long long>(scene.cloth.nu) * scene.cloth.nv, threads.used,
-                 options.grid ? cl : scene.source_path, options.grid ? "--grid" : "cloth.grid");
+                 options.grid ? kCommandLine : scene.source_path, options.grid ? "--grid" : "cloth.grid");
     const kes::FabricData fabric = io::find_fabric(scene.fabric, &warnings);
     print_warnings(warnings);
 
@@ -108,8 +107,7 @@ int run_drape(const DrapeOptions& options)
     // 4. Outputs: staged under temporary names, then published as one set with report.json
     // last (io::OutputSet). Nothing non-finite is written; an interrupt skips the picture.
     auto out = [&](const std::string& name) { return join_path(out_dir, name); };
-    for (const Vec3& p : result.x)
-        if (!p.allFinite()) throw RuntimeError("the drape ended with non-finite positions; no outputs written");
+    require_finite_positions(result.x, "the drape");
     std::optional<render::ClothSurface> cut_surface;  // a cut cloth: its surface, clipped to the outline
     if (cut) {
         std::vector<Vec2> uv;

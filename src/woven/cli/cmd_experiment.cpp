@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/analysis/folds.hpp"
+#include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/report.hpp"
 #include "woven/cli/scene_view.hpp"
@@ -101,7 +102,7 @@ Outcome drape(const kes::FabricData& fabric, const std::string& fabric_name, std
     ov.grid = o.grid;
     ov.seed = seed;
     ov.threads = o.threads;
-    io::apply_overrides(scene, ov, "command line");
+    io::apply_overrides(scene, ov, kCommandLine);
     Outcome out;
     out.fabric = fabric_name;
     out.seed = seed;
@@ -312,7 +313,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     int nr = 0, nc = 0;
     char x = 0, extra = 0;
     if (std::sscanf(o.map_grid.c_str(), "%d%c%d%c", &nr, &x, &nc, &extra) != 3 || x != 'x' || nr < 2 || nc < 2 || nr > 9 || nc > 9)
-        throw InputError("command line", "--map-grid", "expected RxL: R ratios by L bending lengths, each 2 .. 9");
+        throw InputError(kCommandLine, "--map-grid", "expected RxL: R ratios by L bending lengths, each 2 .. 9");
     std::vector<std::string> warnings;
     const kes::FabricData cotton = io::find_fabric("cotton", &warnings);
     std::vector<kes::FabricData> paper;

@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
@@ -39,7 +40,7 @@ std::pair<int, int> parse_size(const std::string& s)
     int w = 0, h = 0;
     char x = 0, extra = 0;
     if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 || w > 16384 || h > 16384)
-        throw InputError("command line", "--size", "expected WxH, each 1 .. 16384 pixels (e.g. 1024x768)");
+        throw InputError(kCommandLine, "--size", "expected WxH, each 1 .. 16384 pixels (e.g. 1024x768)");
     return {w, h};
 }
 
@@ -57,12 +58,11 @@ std::optional<std::pair<int, int>> obj_grid(const std::string& path)
 
 int run_render(const RenderCommandOptions& o)
 {
-    const std::string cl = "command line";
     const auto [width, height] = parse_size(o.size);
     std::string view_name = o.view.empty() ? (o.scene ? "scene" : "corner") : o.view;
     const auto view = render::parse_view(view_name);
-    if (!view) throw InputError(cl, "--view", "expected front, corner, side, top or scene");
-    if (o.out.empty()) throw InputError(cl, "--out", "expected a PNG file name");
+    if (!view) throw InputError(kCommandLine, "--view", "expected front, corner, side, top or scene");
+    if (o.out.empty()) throw InputError(kCommandLine, "--out", "expected a PNG file name");
 
     std::vector<std::string> warnings;
     std::optional<io::SceneSpec> scene;

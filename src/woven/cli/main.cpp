@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/common/error.hpp"
 
@@ -41,9 +42,9 @@ void make_output_dir(const std::string& dir)
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::is_directory(dir, ec)) return;
-    if (fs::exists(dir, ec)) throw InputError("command line", "--out", dir + " exists and is not a directory");
+    if (fs::exists(dir, ec)) throw InputError(kCommandLine, "--out", dir + " exists and is not a directory");
     fs::create_directories(dir, ec);
-    if (ec) throw InputError("command line", "--out", "cannot create the directory " + dir + ": " + ec.message());
+    if (ec) throw InputError(kCommandLine, "--out", "cannot create the directory " + dir + ": " + ec.message());
 }
 
 std::string safe_file_name(const std::string& text)

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <optional>
 
+#include "woven/cli/args.hpp"
 #include "woven/cli/resources.hpp"
 #include "woven/common/error.hpp"
 
@@ -68,7 +69,7 @@ void check_output_targets(const std::string& dir, const std::vector<std::string>
         std::error_code ec;
         const auto st = fs::symlink_status(p, ec);
         if (!ec && fs::exists(st) && !fs::is_regular_file(st))
-            throw InputError("command line", "--out", p.string() + " exists and is not a regular file");
+            throw InputError(kCommandLine, "--out", p.string() + " exists and is not a regular file");
     }
 }
 
@@ -89,6 +90,12 @@ void with_fabric_source(const std::string& source, const std::function<void()>& 
         if (!e.field().empty() && expected.rfind(e.field() + ": ", 0) == 0) expected = expected.substr(e.field().size() + 2);
         throw InputError(source, e.field(), expected);
     }
+}
+
+void require_finite_positions(const Positions& x, const std::string& what)
+{
+    for (const Vec3& p : x)
+        if (!p.allFinite()) throw RuntimeError(what + " ended with non-finite positions; no outputs written");
 }
 
 void require_finite(const nlohmann::json& report, const std::string& what, const std::vector<std::string>& optional)

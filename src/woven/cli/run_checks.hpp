@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "woven/common/types.hpp"
+
 namespace woven::cli {
 
 /// Threads asked for (0: all) and used: min(asked, available_cores()); a request above the
@@ -33,6 +35,10 @@ void with_fabric_source(const std::string& fabric_source, const std::function<vo
 
 /// The name a fabric's errors carry: the path for a fabric file, "built-in fabric 'x'" else.
 std::string fabric_source(const std::string& name_or_path);
+
+/// Throws RuntimeError("<what> ended with non-finite positions; no outputs written") if any
+/// coordinate of `x` is not finite: called before any output of a drape is staged.
+void require_finite_positions(const Positions& x, const std::string& what);
 
 /// Throws RuntimeError naming the first field of the object `report` that is null or not a
 /// finite number (JSON cannot hold inf/NaN: they are written as null), so that no report with a

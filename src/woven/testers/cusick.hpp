@@ -52,7 +52,7 @@ struct CusickOptions {
     /// Largest vertical offset of the seeded start's waviness (m): real specimens never lie
     /// perfectly flat, and a perfectly flat start would drape with the square grid's symmetry.
     /// A smooth function of the rest position (angular modes 1-12 with amplitudes and phases
-    /// drawn from solver.seed, mt19937_64, the same on every platform; zero at the clamp, full
+    /// drawn from solver.seed, mt19937_64, the same on every platform; zero at the disc's edge, full
     /// at the edge), so a seed is the same start at every spacing; it replaces the solver's
     /// per-particle perturbation. 0: none (the solver's perturbation then applies).
     double perturbation_m = 0.001;
