@@ -250,6 +250,19 @@ TEST(HandValues, TrellisLinearForce)
     EXPECT_NEAR(t.of_angle(phi).d1, 978.80e-7 * 4 * 2.0 * std::cos(phi), 1e-18);
 }
 
+TEST(Trellis, ScaleMultipliesTheForceCurve)
+{
+    // ModelOptions::shear_scale: the law of the curve times the factor, singular continuation
+    // included (it matches the scaled value and slope at phi_e).
+    const TrellisEnergy one(smooth_curve(1.5, 0.02, 8.0), kSigma, units::GramForce::PAPER);
+    const TrellisEnergy scaled(smooth_curve(1.5, 0.02, 8.0), kSigma, units::GramForce::PAPER, 1.0126);
+    for (double phi : {-0.3, 0.01, 0.05, 0.1, 0.5, 1.0}) {
+        EXPECT_NEAR(scaled.of_angle(phi).value, 1.0126 * one.of_angle(phi).value, 1e-12 * one.of_angle(phi).value) << phi;
+        EXPECT_NEAR(scaled.of_angle(phi).d1, 1.0126 * one.of_angle(phi).d1, 1e-12 * std::abs(one.of_angle(phi).d1)) << phi;
+        EXPECT_NEAR(scaled.of_angle(phi).d2, 1.0126 * one.of_angle(phi).d2, 1e-12 * std::abs(one.of_angle(phi).d2)) << phi;
+    }
+}
+
 TEST(Trellis, ContinuousInValueAndSlopeAtLastMeasuredAngle)
 {
     for (const TrellisEnergy& t : {cotton_trellis(), TrellisEnergy(smooth_curve(1.5, 0.02, 8.0), kSigma, units::GramForce::PAPER)}) {

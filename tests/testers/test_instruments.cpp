@@ -145,6 +145,33 @@ TEST(KesShear, FreeEndsLowerTheClampsGAsOneOverLength)
     ASSERT_EQ(long_clamp.y_central.size(), long_clamp.x.size());
 }
 
+// The de-embedded shear law: the material's law raised by the specimen's end effect, so that the
+// 20 cm FB1 reads the input G; the list of angles gives the full sweep's points.
+TEST(KesShear, DeembeddedLawReadsTheInputG)
+{
+    const kes::FabricData f = linear_fabric(0.1, 0.1, 2.0);
+    ShearTestOptions o;
+    o.sigma = 0.01;
+    const KesCurveResult measured = kes_shear_test(f, Direction::WARP, o);
+    ASSERT_LT(measured.summary_rel_error, -2e-3);  // the end effect the factor removes
+    const double scale = shear_deembedding(f, o.model, o.sigma, 1e-5);
+    // The first iterate is G / G_read; the law is nearly linear in the factor.
+    EXPECT_NEAR(scale, 1.0 / (1.0 + measured.summary_rel_error), 2e-4);
+    o.model.shear_scale = scale;
+    const KesCurveResult deembedded = kes_shear_test(f, Direction::WARP, o);
+    EXPECT_NEAR(deembedded.summary_rel_error, 0.0, 2e-5);
+    EXPECT_LT(deembedded.curve_max_rel_error, 0.5 * measured.curve_max_rel_error);
+    // Two angles give the sweep's own points (each angle is solved from the same placement).
+    o.angles = {0.5, 5.0};
+    const KesCurveResult two = kes_shear_test(f, Direction::WARP, o);
+    ASSERT_EQ(two.y.size(), 2u);
+    EXPECT_NEAR(two.y[1], deembedded.y[10], 1e-9 * deembedded.y[10]);
+    // The paper's discretization is kept literal.
+    model::ModelOptions paper;
+    paper.discretization = model::Discretization::PAPER;
+    EXPECT_EQ(shear_deembedding(f, paper, o.sigma), 1.0);
+}
+
 TEST(Instruments, AnisotropicFabricInTheRightOrder)
 {
     // Weft 2.5 times stiffer in bending than warp: the weft strip's bending length is longer by
@@ -177,6 +204,11 @@ TEST(Instruments, RejectBadSettings)
     EXPECT_THROW(kes_bending_test(f, Direction::WARP, bo), InputError);
     ShearTestOptions so;
     so.sigma = -1;
+    EXPECT_THROW(kes_shear_test(f, Direction::WARP, so), InputError);
+    so.sigma = 0.01;
+    so.angles = {1.0, 5.0};  // does not cover the G window
+    EXPECT_THROW(kes_shear_test(f, Direction::WARP, so), InputError);
+    so.angles = {5.0, 0.5};  // not increasing
     EXPECT_THROW(kes_shear_test(f, Direction::WARP, so), InputError);
 }
 

@@ -18,6 +18,7 @@
 #include "woven/analysis/drape_shadow.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/material.hpp"
 #include "woven/cli/progress.hpp"
 #include "woven/cli/run_checks.hpp"
 #include "woven/cli/scene_view.hpp"
@@ -167,6 +168,7 @@ int run_cusick(const CusickCommandOptions& o)
         const std::string what = e.what();
         throw InputError(kCommandLine, opt, what.substr(what.find(f + ": ") + f.size() + 2));
     }
+    with_fabric_source(fabric_source(o.fabric), [&] { resolve_shear_law(fabric, co.model); });
     make_output_dir(out_dir);
     // Every file of the set, known before the runs: published together, cusick.json last
     // (io::OutputSet), so an interrupted or failed run never leaves a mixed directory.
@@ -182,7 +184,8 @@ int run_cusick(const CusickCommandOptions& o)
     // 2. The runs: seeds seed0, seed0 + 1, ...
     const double R = 0.5 * co.specimen_diameter_m, rd = 0.5 * co.disc_diameter_m;
     std::cerr << "woven: cusick " << name << ": specimen " << 2 * R * 100 << " cm on a " << 2 * rd * 100 << " cm disc, spacing "
-              << co.spacing_m * 100 << " cm (" << setup.cut.count << " particles), " << runs << (runs == 1 ? " run\n" : " runs\n");
+              << co.spacing_m * 100 << " cm (" << setup.cut.count << " particles), " << shear_law_text(co.model) << ", " << runs
+              << (runs == 1 ? " run\n" : " runs\n");
     nlohmann::json run_list = nlohmann::json::array();
     std::vector<double> dcs;
     std::vector<int> counts;
@@ -251,6 +254,7 @@ int run_cusick(const CusickCommandOptions& o)
     rep["clamped_particles"] = setup.clamped.size();
     rep["clamp_radius_m"] = setup.clamp_radius;
     rep["perturbation_m"] = co.perturbation_m;
+    rep["shear_scale"] = co.model.shear_scale;
     rep["specimen_area_m2"] = setup.cut.total_area;
     rep["specimen_mass_kg"] = setup.cut.total_area * fabric.areal_density_mg_cm2 * 1e-2;
     rep["angle_reference"] = "0 deg = warp (+y, grid v), 90 deg = weft (+x, grid u), seen from above";

@@ -11,6 +11,7 @@
 #include "woven/analysis/folds.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/material.hpp"
 #include "woven/cli/progress.hpp"
 #include "woven/cli/report.hpp"
 #include "woven/cli/run_checks.hpp"
@@ -69,8 +70,10 @@ int run_drape(const DrapeOptions& options)
 
     const model::Grid grid = scene.cloth.grid();
     std::optional<model::ClothModel> model_storage;  // fitting errors name the fabric's file
-    with_fabric_source(fabric_source(scene.fabric),
-                       [&] { model_storage.emplace(model::make_cloth_model(fabric, grid, scene.model)); });
+    with_fabric_source(fabric_source(scene.fabric), [&] {
+        resolve_shear_law(fabric, scene.model);
+        model_storage.emplace(model::make_cloth_model(fabric, grid, scene.model));
+    });
     // A cloth cut to [cloth.outline]: only the kept particles, each weighing W x its area.
     std::optional<model::ClothCut> cut;
     if (scene.cloth.is_cut()) {
@@ -97,7 +100,7 @@ int run_drape(const DrapeOptions& options)
     Progress progress(max_steps, scene.solver.residual_tolerance);
     std::cerr << "woven: draping " << scene.name << " (" << grid.nu << " x " << grid.nv << " particles, fabric "
               << (fabric.name.empty() ? scene.fabric : fabric.name) << ", "
-              << sim::to_string(scene.solver.kind) << " solver)\n";
+              << sim::to_string(scene.solver.kind) << " solver, " << shear_law_text(scene.model) << ")\n";
     sim::Result result =
         sim::drape(problem, scene.solver, [&progress](const sim::StepInfo& s) { return progress(s); },
                    [&progress](const sim::IterationInfo& i) { return progress.iteration(i); });

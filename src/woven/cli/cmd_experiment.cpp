@@ -19,6 +19,7 @@
 #include "woven/analysis/folds.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/material.hpp"
 #include "woven/cli/report.hpp"
 #include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
@@ -107,6 +108,7 @@ Outcome drape(const kes::FabricData& fabric, const std::string& fabric_name, std
     out.fabric = fabric_name;
     out.seed = seed;
     out.grid = scene.cloth.grid();
+    resolve_shear_law(fabric, scene.model);
     const model::ClothModel model = model::make_cloth_model(fabric, out.grid, scene.model);
     sim::Problem problem;
     problem.model = &model;

@@ -17,6 +17,8 @@
 
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/material.hpp"
+#include "woven/cli/run_checks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
 #include "woven/io/fabric_file.hpp"
@@ -38,6 +40,7 @@ struct KesTestOptions {
     std::optional<std::string> shear_length_cm;
     std::optional<std::string> bending_form;
     std::optional<std::string> discretization;
+    std::optional<std::string> shear_law;
     std::optional<std::string> out;
     bool convergence = false;
 };
@@ -208,10 +211,19 @@ int run_kes_test(const KesTestOptions& options)
         else
             throw InputError(kCommandLine, "--discretization", "expected convergent or paper, got '" + *options.discretization + "'");
     }
+    if (options.shear_law) {
+        if (*options.shear_law == "deembedded")
+            mo.shear_law = model::ShearLaw::DEEMBEDDED;
+        else if (*options.shear_law == "measured")
+            mo.shear_law = model::ShearLaw::MEASURED;
+        else
+            throw InputError(kCommandLine, "--shear-law", "expected deembedded or measured, got '" + *options.shear_law + "'");
+    }
     if (options.out) parse_path(*options.out, "--out");
     std::vector<std::string> warnings;
     const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
     print_warnings(warnings);
+    with_fabric_source(fabric_source(options.fabric), [&] { resolve_shear_law(fabric, mo); });
     std::string name = fabric.name.empty() ? std::filesystem::path(options.fabric).stem().string() : fabric.name;
     std::string safe;
     for (char c : name) safe += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
@@ -327,7 +339,8 @@ int run_kes_test(const KesTestOptions& options)
 
     // Table.
     std::cout << "fabric " << name << " (bending form " << (mo.bending_form == model::BendingForm::WORK ? "work" : "secant")
-              << ", discretization " << (mo.discretization == model::Discretization::PAPER ? "paper" : "convergent") << ")\n";
+              << ", discretization " << (mo.discretization == model::Discretization::PAPER ? "paper" : "convergent") << ", "
+              << shear_law_text(mo) << ")\n";
     std::printf("%-10s %-5s %8s %12s %12s %9s %9s  %s\n", "test", "dir", "sigma_cm", "input", "simulated", "rel_err", "curve_err", "unit");
     for (const Row& r : rows) {
         std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", r.test.c_str(), r.direction.c_str(), r.sigma_m * units::kMToCm,
@@ -347,7 +360,9 @@ int run_kes_test(const KesTestOptions& options)
                              {"fabric", name},
                              {"fabric_source", options.fabric},
                              {"bending_form", mo.bending_form == model::BendingForm::WORK ? "work" : "secant"},
-                             {"discretization", mo.discretization == model::Discretization::PAPER ? "paper" : "convergent"}};
+                             {"discretization", mo.discretization == model::Discretization::PAPER ? "paper" : "convergent"},
+                             {"shear_law", to_string(mo.shear_law)},
+                             {"shear_scale", mo.shear_scale}};
     nlohmann::json tests = nlohmann::json::array();
     for (const Row& r : rows) {
         nlohmann::json t = {{"test", r.test},
@@ -404,6 +419,8 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
                     "FB1 specimen length along the clamps, cm (default 20, the instrument's; longer shows the free ends' effect on G)");
     sub->add_option("--bending-form", options->bending_form, "work or secant (default: the model's, work)");
     sub->add_option("--discretization", options->discretization, "convergent or paper (default: the model's, convergent)");
+    sub->add_option("--shear-law", options->shear_law,
+                    "deembedded (the material's law, raised by the FB1 specimen's end effect: the default) or measured (the input curve as read)");
     sub->add_option("--out", options->out, "Output directory (default out/kes-<name>)");
     sub->add_flag("--convergence", options->convergence,
                   "Also the cantilever's grid convergence: bending length vs the exact elastica at L/c = 1..3 and spacings S, S/2, S/4 "

@@ -130,6 +130,7 @@ nlohmann::json drape_report(const DrapeReportInput& in)
     j["particle_mass_kg"] = model.particle_mass();
     j["gravity_m_s2"] = model.gravity();
     j["C0_J"] = model.spacing().C0;
+    j["shear_scale"] = model.shear_scale();
     j["kes"] = {{"W_mg_cm2", kv.W},
                 {"B_warp_gf_cm2_cm", kv.B_warp},
                 {"B_weft_gf_cm2_cm", kv.B_weft},

@@ -196,6 +196,10 @@ void parse_model(const TomlTable& t, model::ModelOptions& o)
     o.discretization = t.choice("discretization", paper ? "paper" : "convergent", {"convergent", "paper"}) == "paper"
         ? model::Discretization::PAPER
         : model::Discretization::CONVERGENT;
+    const bool measured = o.shear_law == model::ShearLaw::MEASURED;
+    o.shear_law = t.choice("shear_law", measured ? "measured" : "deembedded", {"deembedded", "measured"}) == "measured"
+        ? model::ShearLaw::MEASURED
+        : model::ShearLaw::DEEMBEDDED;
     o.tensile_stiffness = t.number("tensile_stiffness_N_m", Range{0, 1e9, false, "N/m"}, o.tensile_stiffness);
     o.gram_force = t.choice("gram_force", "paper", {"paper", "standard"}) == "standard" ? units::GramForce::STANDARD
                                                                                          : units::GramForce::PAPER;

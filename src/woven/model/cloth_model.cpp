@@ -42,7 +42,8 @@ std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& a
 
 ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active,
     const std::vector<double>& area_m2)
-    : grid_(grid), stencils_(make_stencils(grid, std::move(active), options.discretization)), discretization_(options.discretization)
+    : grid_(grid), stencils_(make_stencils(grid, std::move(active), options.discretization)), discretization_(options.discretization),
+      shear_scale_(options.shear_scale)
 {
     assert(grid.nu > 0 && grid.nv > 0 && grid.sigma > 0);
     const double sigma = grid.sigma;
@@ -63,7 +64,7 @@ ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const 
         spacing_.tensile = options.tensile_stiffness > 0 ? options.tensile_stiffness : tensile_stiffness_from_emt(kDefaultEMT, options.gram_force);
     warp_ = BendingEnergy(fabric.bending_warp, sigma, options.bending_form, options.gram_force);
     weft_ = BendingEnergy(fabric.bending_weft, sigma, options.bending_form, options.gram_force);
-    trellis_ = TrellisEnergy(fabric.shear, sigma, options.gram_force);
+    trellis_ = TrellisEnergy(fabric.shear, sigma, options.gram_force, options.shear_scale);
 }
 
 EnergyTerms ClothModel::evaluate(const Positions& x) const

@@ -30,6 +30,9 @@ struct EnergyTerms {
     double operator[](Term t) const { return const_cast<EnergyTerms&>(*this)[t]; }
 };
 
+/// The shear law of ModelOptions::shear_law.
+enum class ShearLaw { DEEMBEDDED, MEASURED };
+
 /// Model settings beyond the fabric (SI).
 struct ModelOptions {
     /// WORK: the moment a bent thread carries is the input curve's M(K), as the virtual KES-FB2
@@ -48,6 +51,14 @@ struct ModelOptions {
     /// C0 of Eq. (2, 3) in J; <= 0: chosen by choose_C0 for a hanging length of half the
     /// cloth's longer side and 1 % strain.
     double C0 = 0;
+    /// Which shear law the trellis energy (Eq. 14-15) carries. DEEMBEDDED: the material's, the
+    /// input curve raised by the KES-FB1 specimen's end effect (its free short edges carry no
+    /// shear, so the instrument reads a G below the material's); the factor is found by a
+    /// virtual FB1 (testers::shear_deembedding), which the woven commands run and store in
+    /// shear_scale. MEASURED: the input curve as the instrument read it.
+    ShearLaw shear_law = ShearLaw::DEEMBEDDED;
+    /// The trellis law is the input shear curve times this factor (the model applies only this).
+    double shear_scale = 1.0;
 };
 
 /// The extension (%) at 500 gf/cm assumed when a fabric gives no KES tensile values: a typical
@@ -76,6 +87,8 @@ public:
 
     /// The discretisation the model was built with.
     Discretization discretization() const { return discretization_; }
+    /// The factor on the input shear curve (ModelOptions::shear_scale).
+    double shear_scale() const { return shear_scale_; }
 
     /// Energy terms at x, one position per grid particle; a term is +inf in a singular
     /// configuration (terms.hpp).
@@ -126,6 +139,7 @@ private:
     std::vector<double> masses_;
     double patch_mass_, gravity_;
     Discretization discretization_ = Discretization::CONVERGENT;
+    double shear_scale_ = 1.0;
     ThreadSpacing spacing_;
     BendingEnergy warp_, weft_;
     TrellisEnergy trellis_;

@@ -92,11 +92,11 @@ double BendingEnergy::of_angle(double theta) const
 }
 
 // ---------------------------------------------------------------------------------------------
-TrellisEnergy::TrellisEnergy(kes::CurveFit force, double sigma_m, units::GramForce gf)
+TrellisEnergy::TrellisEnergy(kes::CurveFit force, double sigma_m, units::GramForce gf, double scale)
     : force_(std::move(force))
 {
     const double sigma_cm = sigma_m * units::kMToCm;
-    scale_ = sigma_cm * sigma_cm * units::joule_per_gram_force_cm(gf);
+    scale_ = scale * sigma_cm * sigma_cm * units::joule_per_gram_force_cm(gf);
     phi_e_ = force_.data_max_x() * units::kDegToRad;
     // Singular continuation a/(1.05 - phi) + b matching T and dT/dphi at phi_e (Sec. 5.3).
     const double Te = scale_ * integral(phi_e_);

@@ -84,7 +84,8 @@ public:
     static constexpr double kSingularAngle = 1.05;
 
     TrellisEnergy() = default;
-    TrellisEnergy(kes::CurveFit force, double sigma_m, units::GramForce gf);
+    /// `scale` multiplies the force curve (ModelOptions::shear_scale).
+    TrellisEnergy(kes::CurveFit force, double sigma_m, units::GramForce gf, double scale = 1.0);
 
     /// T(phi), dT/dphi, d2T/dphi2 (phi in radians, J). T is even.
     Scalar3 of_angle(double phi) const;

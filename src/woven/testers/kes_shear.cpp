@@ -13,8 +13,16 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
 {
     if (!(options.sigma > 0) || !(options.gap > 0) || !(options.length > 0))
         throw InputError("kes shear", "sigma", "expected positive spacing, gap and length");
-    if (!(options.step > 0) || !(options.max_angle >= kes::instrument::kShearSlopeTo) || options.max_angle >= 60)
-        throw InputError("kes shear", "max_angle", "expected a positive step and a range covering the G window");
+    std::vector<double> angles = options.angles;
+    if (angles.empty()) {
+        if (!(options.step > 0) || !(options.max_angle >= kes::instrument::kShearSlopeTo) || options.max_angle >= 60)
+            throw InputError("kes shear", "max_angle", "expected a positive step and a range covering the G window");
+        const int steps = static_cast<int>(std::lround(options.max_angle / options.step));
+        for (int k = 0; k <= steps; ++k) angles.push_back(k * options.max_angle / steps);
+    }
+    if (!std::is_sorted(angles.begin(), angles.end()) || !(angles.front() >= 0) || angles.front() > kes::instrument::kShearSlopeFrom ||
+        angles.back() < kes::instrument::kShearSlopeTo || !(angles.back() < 60))
+        throw InputError("kes shear", "angles", "expected increasing angles in [0, 60) degrees covering the G window");
     if (!(options.pretension >= 0)) throw InputError("kes shear", "pretension", "expected a non-negative pre-tension in gf/cm");
     Layout layout;
     layout.direction = dir;
@@ -39,7 +47,7 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
     r.direction = dir;
     r.sigma = layout.sigma;
     r.compare_from = kes::instrument::kShearSlopeFrom;
-    r.compare_to = options.max_angle;
+    r.compare_to = angles.back();
 
     Positions x(layout.grid().size());
     auto place = [&](double sep, double phi) {
@@ -78,9 +86,7 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
         sep = rest * (1 + e1);
     }
 
-    const int steps = static_cast<int>(std::lround(options.max_angle / options.step));
-    for (int k = 0; k <= steps; ++k) {
-        const double phi_deg = k * options.max_angle / steps;
+    for (const double phi_deg : angles) {
         const double phi = phi_deg * units::kDegToRad;
         place(sep, phi);
         const StaticResult eq = solve_static(model, x, fixed, solve);
@@ -109,6 +115,26 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
     r.central_summary = window_slope(r.x, r.y_central, kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo);
     r.central_rel_error = (r.central_summary - r.input_summary) / r.input_summary;
     return r;
+}
+
+double shear_deembedding(const kes::FabricData& fabric, const model::ModelOptions& model, double sigma, double tolerance)
+{
+    if (model.discretization == model::Discretization::PAPER) return 1.0;
+    ShearTestOptions o;
+    o.sigma = sigma;
+    o.model = model;
+    o.angles = {kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo};
+    double scale = 1.0;
+    for (int it = 0; it < 8; ++it) {
+        o.model.shear_scale = scale;
+        const KesCurveResult r = kes_shear_test(fabric, Direction::WARP, o);
+        if (!(r.simulated_summary > 0) || !std::isfinite(r.simulated_summary))
+            throw RuntimeError("kes shear: the de-embedding read a non-positive G");
+        const double ratio = r.input_summary / r.simulated_summary;
+        if (std::abs(ratio - 1) <= tolerance) return scale;
+        scale *= ratio;
+    }
+    return scale;
 }
 
 }  // namespace woven::testers

@@ -1,0 +1,26 @@
+#include "woven/cli/material.hpp"
+
+#include <iomanip>
+#include <sstream>
+
+#include "woven/testers/kes_shear.hpp"
+
+namespace woven::cli {
+
+void resolve_shear_law(const kes::FabricData& fabric, model::ModelOptions& options)
+{
+    options.shear_scale = 1.0;
+    if (options.shear_law != model::ShearLaw::DEEMBEDDED || options.discretization == model::Discretization::PAPER) return;
+    options.shear_scale = testers::shear_deembedding(fabric, options);
+}
+
+std::string shear_law_text(const model::ModelOptions& options)
+{
+    std::ostringstream s;
+    s << "shear law " << to_string(options.shear_law) << " (input curve x " << std::fixed << std::setprecision(4) << options.shear_scale << ")";
+    return s.str();
+}
+
+const char* to_string(model::ShearLaw law) { return law == model::ShearLaw::MEASURED ? "measured" : "deembedded"; }
+
+}  // namespace woven::cli

@@ -1,0 +1,23 @@
+#pragma once
+// The material law a run's model carries, resolved from the fabric's measurements before the
+// model is built: the shear law de-embedded from the KES-FB1 reading (model::ShearLaw).
+#include <string>
+
+#include "woven/kes/fabric.hpp"
+#include "woven/model/cloth_model.hpp"
+
+namespace woven::cli {
+
+/// Sets options.shear_scale for options.shear_law: DEEMBEDDED runs the virtual FB1
+/// (testers::shear_deembedding at testers::kDeembeddingSpacing, a fraction of a second);
+/// MEASURED and the paper's discretization keep 1. Prints nothing (bad input found later
+/// still gets its one-line error alone).
+void resolve_shear_law(const kes::FabricData& fabric, model::ModelOptions& options);
+
+/// "shear law deembedded (input curve x 1.0081)", for a run's progress lines.
+std::string shear_law_text(const model::ModelOptions& options);
+
+/// "deembedded" or "measured".
+const char* to_string(model::ShearLaw law);
+
+}  // namespace woven::cli
