@@ -1,8 +1,10 @@
 #include "woven/cli/material.hpp"
 
 #include <iomanip>
+#include <iostream>
 #include <sstream>
 
+#include "woven/common/error.hpp"
 #include "woven/testers/kes_shear.hpp"
 
 namespace woven::cli {
@@ -11,7 +13,13 @@ void resolve_shear_law(const kes::FabricData& fabric, model::ModelOptions& optio
 {
     options.shear_scale = 1.0;
     if (options.shear_law != model::ShearLaw::DEEMBEDDED || options.discretization == model::Discretization::PAPER) return;
-    options.shear_scale = testers::shear_deembedding(fabric, options);
+    try {
+        options.shear_scale = testers::shear_deembedding(fabric, options);
+    } catch (const RuntimeError& e) {
+        // The run need not fail with its side instrument: it keeps the law as measured.
+        std::cerr << "woven: warning: fabric '" << fabric.name << "': the shear law could not be de-embedded (" << e.what()
+                  << "); the curve is used as measured\n";
+    }
 }
 
 std::string shear_law_text(const model::ModelOptions& options)

@@ -11,7 +11,8 @@ namespace woven::cli {
 /// Sets options.shear_scale for options.shear_law: DEEMBEDDED runs the virtual FB1
 /// (testers::shear_deembedding at testers::kDeembeddingSpacing, a fraction of a second);
 /// MEASURED and the paper's discretization keep 1. Prints nothing (bad input found later
-/// still gets its one-line error alone).
+/// still gets its one-line error alone), except a warning if the virtual FB1 fails (the
+/// curve is then used as measured).
 void resolve_shear_law(const kes::FabricData& fabric, model::ModelOptions& options);
 
 /// "shear law deembedded (input curve x 1.0081)", for a run's progress lines.
