@@ -228,7 +228,7 @@ TEST_F(Cli, DrapeTinySceneWritesEverything)
     for (const char* key : {"version", "scene", "fabric", "grid", "sigma_m", "solver", "seed", "converged",
                             "interrupted", "steps", "iterations", "simulated_time_s", "wall_time_s", "energy",
                             "energy_initial_J", "equilibrium", "contact", "strain", "bbox", "particle_mass_kg", "C0_J",
-                            "kes"})
+                            "shear_scale", "kes"})
         EXPECT_TRUE(j.contains(key)) << key;
     for (const char* key : {"repulsion_J", "stretch_J", "bending_warp_J", "bending_weft_J", "trellis_J", "gravity_J",
                             "total_J"})
@@ -256,6 +256,8 @@ TEST_F(Cli, DrapeTinySceneWritesEverything)
     EXPECT_GE(j["bbox"]["min_m"][2].get<double>(), -1e-3);
     EXPECT_GE(j["contact"]["max_penetration_m"].get<double>(), 0.0);
     EXPECT_NEAR(j["particle_mass_kg"].get<double>(), 12.0 * 1e-2 * (0.3 / 8) * (0.3 / 8), 1e-12);
+    // The de-embedded shear law: cotton's curve raised by its FB1 end effect (docs/VALIDATION.md: x 1.0068).
+    EXPECT_NEAR(j["shear_scale"].get<double>(), 1.0068, 1e-3);
 
     EXPECT_NE(r.out.find("converged"), std::string::npos);
     EXPECT_NE(r.out.find("strain"), std::string::npos);
@@ -274,6 +276,10 @@ TEST_F(Cli, DrapeNoRenderAndOverrides)
     EXPECT_EQ(j["fabric"], "wool");
     EXPECT_EQ(j["seed"], 5);
     EXPECT_LE(j["steps"].get<int>(), 3);
+    // The shear law as measured: no factor.
+    write(dir_ / "measured.toml", kTinyScene + "\n[model]\nshear_law = \"measured\"\n");
+    ASSERT_EQ(woven("drape measured.toml --out res2 --max-steps 1 --no-render").code, 0);
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "res2" / "report.json"))["shear_scale"].get<double>(), 1.0);
 }
 
 /// Each bad input: exit 2, one line naming the file and the field, nothing written.

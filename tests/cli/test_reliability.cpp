@@ -328,6 +328,8 @@ TEST_F(Reliability, Defect10CommandLineValues)
         {"fit cotton --out ''", "command line: --out: expected a directory path, got an empty string"},
         {"fit cotton --sigma-cm -1", "command line: --sigma-cm: expected a number in (0, 100], got '-1'"},
         {"fit cotton --sigma-cm nan", "command line: --sigma-cm: expected a number in (0, 100], got 'nan'"},
+        {"kes-test cotton --shear-law raw", "command line: --shear-law: expected deembedded or measured, got 'raw'"},
+        {"kes-test cotton --bending-form x", "command line: --bending-form: expected work or secant, got 'x'"},
     };
     for (const auto& [args, expected] : cases) {
         const Outcome r = woven(args);

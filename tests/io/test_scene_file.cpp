@@ -156,7 +156,7 @@ TEST(SceneFile, DefaultsAndAllSections)
                                         "[solver]\nkind = \"paper\"\nseed = 7\nmax_steps = 100\nresidual_tolerance = 0.01\n"
                                         "move_tolerance_m = 1e-6\ntime_step_s = 0.01\ncontact_distance_m = 0.002\n"
                                         "viscosity_per_s = 1.5\nfriction = 0.4\nthreads = 2\n"
-                                        "[model]\nbending_form = \"work\"\ngram_force = \"standard\"\ngravity_m_s2 = 9.81\nC0_J = 0.5\n"
+                                        "[model]\nbending_form = \"work\"\nshear_law = \"measured\"\ngram_force = \"standard\"\ngravity_m_s2 = 9.81\nC0_J = 0.5\n"
                                         "[camera]\neye_m = [1, 2, 3]\ntarget_m = [0, 0, 0]\nfov_deg = 40\n");
     std::vector<std::string> warnings;
     const io::SceneSpec s = io::parse_scene(text, kSource, ".", &warnings);
@@ -174,6 +174,7 @@ TEST(SceneFile, DefaultsAndAllSections)
     EXPECT_DOUBLE_EQ(s.solver.friction, 0.4);
     EXPECT_EQ(s.solver.threads, 2);
     EXPECT_EQ(s.model.bending_form, model::BendingForm::WORK);
+    EXPECT_EQ(s.model.shear_law, model::ShearLaw::MEASURED);
     EXPECT_EQ(s.model.gram_force, units::GramForce::STANDARD);
     EXPECT_DOUBLE_EQ(s.model.gravity, 9.81);
     EXPECT_DOUBLE_EQ(s.model.C0, 0.5);
@@ -196,6 +197,7 @@ TEST(SceneFile, MinimalSceneUsesDefaults)
     EXPECT_NEAR(s.cloth.sigma(), 0.02, 1e-12);
     EXPECT_TRUE(s.obstacles.empty());
     EXPECT_EQ(s.solver.kind, sim::SolverKind::FAST);
+    EXPECT_EQ(s.model.shear_law, model::ShearLaw::DEEMBEDDED);
     EXPECT_FALSE(s.camera.given);
 }
 
@@ -323,6 +325,7 @@ INSTANTIATE_TEST_SUITE_P(
         ErrorCase{"BadSolverKind", "[solver]\nkind = \"slow\"\n", {"solver.kind", "\"fast\""}},
         ErrorCase{"NegativeSeed", "[solver]\nseed = -1\n", {"solver.seed"}},
         ErrorCase{"BadBendingForm", "[model]\nbending_form = \"cubic\"\n", {"model.bending_form"}},
+        ErrorCase{"BadShearLaw", "[model]\nshear_law = \"raw\"\n", {"model.shear_law"}},
         ErrorCase{"CameraMissingEye", "[camera]\ntarget_m = [0, 0, 0]\n", {"camera.eye_m", "missing"}},
         ErrorCase{"CameraFov", "[camera]\neye_m = [1, 1, 1]\ntarget_m = [0, 0, 0]\nfov_deg = 190\n", {"camera.fov_deg"}},
         ErrorCase{"ObstacleNotArrayOfTables", "[obstacle]\ntype = \"box\"\n", {"obstacle", "[[obstacle]]"}}),

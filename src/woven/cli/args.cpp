@@ -74,4 +74,16 @@ std::string parse_path(const std::string& text, const std::string& option)
     return text;
 }
 
+std::size_t parse_choice(const std::string& text, const std::string& option, std::initializer_list<const char*> choices)
+{
+    std::string expected;
+    std::size_t k = 0;
+    for (const char* c : choices) {
+        if (text == c) return k;
+        expected += (k == 0 ? "" : k + 1 == choices.size() ? " or " : ", ") + std::string(c);
+        ++k;
+    }
+    throw InputError(kCommandLine, option, "expected " + expected + ", got '" + text + "'");
+}
+
 }  // namespace woven::cli

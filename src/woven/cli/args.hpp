@@ -1,7 +1,9 @@
 #pragma once
 // Command-line values parsed by woven itself (not CLI11's converters), so that a bad value is
 // one short line in the documented form "command line: <option>: <what is expected>", exit 2.
+#include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <string>
 
@@ -20,6 +22,10 @@ double parse_positive(const std::string& text, const std::string& option, double
 double parse_number(const std::string& text, const std::string& option, double lo, double hi);
 /// A non-empty path ("command line: --out: expected a directory path, got an empty string").
 std::string parse_path(const std::string& text, const std::string& option);
+
+/// The index of `text` in `choices` ("command line: --shear-law: expected deembedded or
+/// measured, got 'x'").
+std::size_t parse_choice(const std::string& text, const std::string& option, std::initializer_list<const char*> choices);
 
 /// std::optional versions: nullopt stays nullopt.
 std::optional<long long> parse_integer(const std::optional<std::string>& text, const std::string& option, long long lo,

@@ -195,30 +195,16 @@ int run_kes_test(const KesTestOptions& options)
     if (directions.empty()) throw InputError(kCommandLine, "--direction", "expected warp, weft or both, got '" + options.direction + "'");
     const std::optional<double> sigma_cm = options.sigma_cm ? std::optional<double>(parse_number(*options.sigma_cm, "--sigma-cm", 0.02, 2.0)) : std::nullopt;
     model::ModelOptions mo;
-    if (options.bending_form) {
-        if (*options.bending_form == "work")
-            mo.bending_form = model::BendingForm::WORK;
-        else if (*options.bending_form == "secant")
-            mo.bending_form = model::BendingForm::SECANT;
-        else
-            throw InputError(kCommandLine, "--bending-form", "expected work or secant, got '" + *options.bending_form + "'");
-    }
-    if (options.discretization) {
-        if (*options.discretization == "convergent")
-            mo.discretization = model::Discretization::CONVERGENT;
-        else if (*options.discretization == "paper")
-            mo.discretization = model::Discretization::PAPER;
-        else
-            throw InputError(kCommandLine, "--discretization", "expected convergent or paper, got '" + *options.discretization + "'");
-    }
-    if (options.shear_law) {
-        if (*options.shear_law == "deembedded")
-            mo.shear_law = model::ShearLaw::DEEMBEDDED;
-        else if (*options.shear_law == "measured")
-            mo.shear_law = model::ShearLaw::MEASURED;
-        else
-            throw InputError(kCommandLine, "--shear-law", "expected deembedded or measured, got '" + *options.shear_law + "'");
-    }
+    if (options.bending_form)
+        mo.bending_form = parse_choice(*options.bending_form, "--bending-form", {"work", "secant"}) == 0 ? model::BendingForm::WORK
+                                                                                                        : model::BendingForm::SECANT;
+    if (options.discretization)
+        mo.discretization = parse_choice(*options.discretization, "--discretization", {"convergent", "paper"}) == 0
+            ? model::Discretization::CONVERGENT
+            : model::Discretization::PAPER;
+    if (options.shear_law)
+        mo.shear_law = parse_choice(*options.shear_law, "--shear-law", {"deembedded", "measured"}) == 0 ? model::ShearLaw::DEEMBEDDED
+                                                                                                       : model::ShearLaw::MEASURED;
     if (options.out) parse_path(*options.out, "--out");
     std::vector<std::string> warnings;
     const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
