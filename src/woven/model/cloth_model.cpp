@@ -1,9 +1,5 @@
 #include "woven/model/cloth_model.hpp"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -142,23 +138,6 @@ std::vector<Stencil<2>> ClothModel::close_pairs(const Positions& x, double radiu
     std::sort(pairs.begin(), pairs.end());  // deterministic order of summation
     return pairs;
 }
-
-namespace detail {
-
-int evaluation_threads(std::size_t count)
-{
-    // Below this many stencils a parallel region costs more than it saves.
-    constexpr std::size_t kMinStencils = 2048;
-#ifdef _OPENMP
-    if (count < kMinStencils || omp_in_parallel()) return 1;
-    return std::max(1, omp_get_max_threads());
-#else
-    (void)count;
-    return 1;
-#endif
-}
-
-}  // namespace detail
 
 ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active,
     const std::vector<double>& area_m2)

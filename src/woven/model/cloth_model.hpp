@@ -153,40 +153,19 @@ ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, con
 
 namespace detail {
 
-/// The threads to evaluate `count` stencils on: OpenMP's count outside a parallel region when
-/// there are enough stencils to pay for it, else 1.
-int evaluation_threads(std::size_t count);
-
 /// Sums one term over its stencils, each times its weight (stencils.hpp), and sends the local
-/// derivatives to the sink. On several threads the stencils' local terms are computed in
-/// parallel, a chunk at a time, and then summed and sent to the sink in stencil order on the
-/// calling thread: the same bits on any number of threads.
+/// derivatives to the sink.
 template <class T, class Sink>
 double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>>& stencils, const std::vector<double>& weights, const Positions& x, Derivatives what, Sink& sink)
 {
     constexpr int N = T::kParticles;
     double sum = 0;
-    auto finish = [&](std::size_t k, Local<N>& l) {
+    for (std::size_t k = 0; k < stencils.size(); ++k) {
+        const Stencil<N>& s = stencils[k];
+        Local<N> l = term.evaluate(gather<N>(x, s), what);
         if (!weights.empty() && weights[k] != 1.0) scale_local(l, weights[k]);
         sum += l.value;
-        if (what != Derivatives::NONE && !l.vanishes && std::isfinite(l.value)) sink.template add<N>(id, stencils[k], l, what != Derivatives::GRADIENT);
-    };
-    const int threads = evaluation_threads(stencils.size());
-    if (threads <= 1) {
-        for (std::size_t k = 0; k < stencils.size(); ++k) {
-            Local<N> l = term.evaluate(gather<N>(x, stencils[k]), what);
-            finish(k, l);
-        }
-        return sum;
-    }
-    constexpr std::ptrdiff_t kChunk = 4096;
-    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(stencils.size());
-    std::vector<Local<N>> locals(static_cast<std::size_t>(std::min(count, kChunk)));
-    for (std::ptrdiff_t begin = 0; begin < count; begin += kChunk) {
-        const std::ptrdiff_t end = std::min(count, begin + kChunk);
-#pragma omp parallel for schedule(static) num_threads(threads)
-        for (std::ptrdiff_t k = begin; k < end; ++k) locals[k - begin] = term.evaluate(gather<N>(x, stencils[k]), what);
-        for (std::ptrdiff_t k = begin; k < end; ++k) finish(static_cast<std::size_t>(k), locals[k - begin]);
+        if (what != Derivatives::NONE && !l.vanishes && std::isfinite(l.value)) sink.template add<N>(id, s, l, what != Derivatives::GRADIENT);
     }
     return sum;
 }
