@@ -92,20 +92,21 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
 
 namespace {
 
-/// Sets the OpenMP and BLAS thread counts for its lifetime (threads > 0), restoring them after.
+/// Sets the OpenMP thread count for its lifetime (threads > 0) and the BLAS's to one (the
+/// solvers' only BLAS work is CHOLMOD's, which runs on one thread for the same bits on any
+/// thread count, linear_solver.cpp: set once here, not switched at every solve), restoring
+/// both after.
 class ThreadCount {
 public:
     explicit ThreadCount(int threads) : omp_(omp_get_max_threads()), blas_(blas_threads()), set_(threads > 0)
     {
-        if (!set_) return;
-        omp_set_num_threads(threads);
-        set_blas_threads(threads);
+        if (set_) omp_set_num_threads(threads);
+        if (blas_ > 1) set_blas_threads(1);
     }
     ~ThreadCount()
     {
-        if (!set_) return;
-        omp_set_num_threads(omp_);
-        if (blas_ > 0) set_blas_threads(blas_);
+        if (set_) omp_set_num_threads(omp_);
+        if (blas_ > 1) set_blas_threads(blas_);
     }
     ThreadCount(const ThreadCount&) = delete;
     ThreadCount& operator=(const ThreadCount&) = delete;

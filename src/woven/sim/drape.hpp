@@ -98,7 +98,7 @@ struct SolverOptions {
     double contact_distance = 1e-3;    ///< barrier activation distance d^ (m)
     double viscosity = 2.0;            ///< paper solver: drag coefficient of the viscous medium (1/s)
     double friction = 0.0;             ///< fast solver: Coulomb friction coefficient cloth-obstacle (0: none, as the paper)
-    int threads = 0;                   ///< 0: leave the OpenMP / BLAS thread counts as they are (all cores); restored on return
+    int threads = 0;                   ///< OpenMP threads during the drape; 0: leave the count as it is (all cores); restored on return
     /// Fast solver: amplitude (m) of a seeded perturbation of the start, each coordinate of each
     /// free particle moved by up to this (uniform, from `seed`), so that the start is never
     /// exactly symmetric (the paper's stochastic solver never drapes the same twice); 0 keeps
@@ -169,8 +169,9 @@ struct Result {
 };
 
 /// Runs the chosen solver to equilibrium (or max_steps, or until a callback says stop). With
-/// options.threads > 0, OpenMP and the BLAS run on that many threads during the call; the
-/// process-wide counts are restored on return.
+/// options.threads > 0, OpenMP runs on that many threads during the call; the BLAS on one
+/// (the factorisations' bits must not depend on the thread count); the process-wide counts
+/// are restored on return. Nothing in the solvers is threaded yet (bench/NOTES.md).
 Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress = {},
              const IterationCallback& iteration = {});
 
