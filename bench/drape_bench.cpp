@@ -127,14 +127,10 @@ std::string join(const std::vector<std::string>& argv)
 }
 
 /// One woven drape of the cube; the report's numbers plus the process's.
-json run_woven(const Options& opt, const std::string& solver, int grid, int threads, int rep)
+/// Runs argv, recording in r the load before, the command, wall and CPU time, peak RSS and how
+/// it ended.
+Outcome measured_run(const Options& opt, const std::vector<std::string>& argv, json& r)
 {
-    const std::string dir =
-        opt.out + "/runs/" + solver + "-" + std::to_string(grid) + "-t" + std::to_string(threads) + "-r" + std::to_string(rep);
-    const std::vector<std::string> argv{
-        opt.woven,     "drape", "cube", "--grid", std::to_string(grid), "--solver", solver, "--threads", std::to_string(threads),
-        "--no-render", "--out", dir};
-    json r{{"tool", "woven"}, {"solver", solver}, {"grid", grid}, {"particles", grid * grid}, {"threads", threads}, {"repeat", rep}};
     r["load_average_before"] = load_average();
     const Outcome o = run_process(argv, opt.max_wall);
     r["command"] = join(argv);
@@ -143,6 +139,18 @@ json run_woven(const Options& opt, const std::string& solver, int grid, int thre
     r["max_rss_mib"] = o.max_rss_kib / 1024.0;
     r["exit"] = o.status;
     r["killed"] = o.killed;
+    return o;
+}
+
+json run_woven(const Options& opt, const std::string& solver, int grid, int threads, int rep)
+{
+    const std::string dir =
+        opt.out + "/runs/" + solver + "-" + std::to_string(grid) + "-t" + std::to_string(threads) + "-r" + std::to_string(rep);
+    const std::vector<std::string> argv{
+        opt.woven,     "drape", "cube", "--grid", std::to_string(grid), "--solver", solver, "--threads", std::to_string(threads),
+        "--no-render", "--out", dir};
+    json r{{"tool", "woven"}, {"solver", solver}, {"grid", grid}, {"particles", grid * grid}, {"threads", threads}, {"repeat", rep}};
+    const Outcome o = measured_run(opt, argv, r);
     std::ifstream in(dir + "/report.json");
     if (in) {
         const json report = json::parse(in, nullptr, false);
@@ -169,14 +177,7 @@ json run_bullet(const Options& opt, int grid, int rep)
         opt.bullet, "--n",    std::to_string(grid), "--maxwall", std::to_string(opt.bullet_max_wall), "--snap-every", "0",
         "--json",   json_path};
     json r{{"tool", "bullet"}, {"solver", "bullet"}, {"grid", grid}, {"particles", grid * grid}, {"threads", 1}, {"repeat", rep}};
-    r["load_average_before"] = load_average();
-    const Outcome o = run_process(argv, opt.max_wall);
-    r["command"] = join(argv);
-    r["process_wall_s"] = o.wall;
-    r["cpu_s"] = o.cpu;
-    r["max_rss_mib"] = o.max_rss_kib / 1024.0;
-    r["exit"] = o.status;
-    r["killed"] = o.killed;
+    const Outcome o = measured_run(opt, argv, r);
     std::ifstream in(json_path);
     if (in) {
         const json b = json::parse(in, nullptr, false);
@@ -205,12 +206,27 @@ std::string fmt(double v, const char* f = "%.3g")
     return buf;
 }
 
-std::vector<int> parse_list(const std::string& s)
+/// A comma-separated list of grid sides, each an integer >= 3 ("" is an empty list); exits 2
+/// naming the option otherwise.
+std::vector<int> parse_list(const std::string& s, const std::string& option)
 {
     std::vector<int> v;
     std::stringstream ss(s);
-    for (std::string item; std::getline(ss, item, ',');)
-        if (!item.empty()) v.push_back(std::stoi(item));
+    for (std::string item; std::getline(ss, item, ',');) {
+        if (item.empty()) continue;
+        std::size_t used = 0;
+        int n = 0;
+        try {
+            n = std::stoi(item, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used != item.size() || n < 3) {
+            std::cerr << "drape_bench: " << option << ": expected grid sides >= 3 separated by commas, got '" << item << "'\n";
+            std::exit(2);
+        }
+        v.push_back(n);
+    }
     return v;
 }
 
@@ -241,9 +257,9 @@ int main(int argc, char** argv)
         else if (a == "--out")
             opt.out = value();
         else if (a == "--grids")
-            opt.grids = parse_list(value());
+            opt.grids = parse_list(value(), a);
         else if (a == "--paper-grids")
-            opt.paper_grids = parse_list(value());
+            opt.paper_grids = parse_list(value(), a);
         else if (a == "--repeat")
             opt.repeat = std::stoi(value());
         else if (a == "--bullet-max-wall")
@@ -265,6 +281,10 @@ int main(int argc, char** argv)
             std::cerr << "drape_bench: unknown option " << a << "\n";
             return 2;
         }
+    }
+    if (opt.from_runs.empty() && opt.grids.empty()) {
+        std::cerr << "drape_bench: --grids: at least one grid side is expected\n";
+        return 2;
     }
     if (opt.from_runs.empty() && (opt.woven.empty() || access(opt.woven.c_str(), X_OK) != 0)) {
         std::cerr << "drape_bench: --woven: an executable woven binary is expected\n";
@@ -383,9 +403,12 @@ int main(int argc, char** argv)
             m += (m.empty() ? "" : ", ") + std::to_string(g) + ": " + fmt(s, "%.2f") + " x";
         }
         row("two threads never slower than one (speed-up t1/t2 >= 1 at every grid)", m, ok, known);
-        const double sd = t("woven", "fast", opt.grids.front(), 1) / t("woven", "fast", opt.grids.front(), 0);
-        row("default threads never slower than one (" + std::to_string(opt.grids.front()) + " x " + std::to_string(opt.grids.front()) + ")",
-            fmt(sd, "%.2f") + " x", sd >= 1.0, std::isfinite(sd));
+        if (!opt.grids.empty()) {
+            const int g = opt.grids.front();
+            const double sd = t("woven", "fast", g, 1) / t("woven", "fast", g, 0);
+            row("default threads never slower than one (" + std::to_string(g) + " x " + std::to_string(g) + ")", fmt(sd, "%.2f") + " x",
+                sd >= 1.0, std::isfinite(sd));
+        }
     }
     {
         const double rss = med({"woven", "fast", 201, 1}, "max_rss_mib");
