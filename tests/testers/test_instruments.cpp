@@ -172,6 +172,25 @@ TEST(KesShear, DeembeddedLawReadsTheInputG)
     EXPECT_EQ(shear_deembedding(f, paper, o.sigma), 1.0);
 }
 
+// A shear curve measured only to 3 degrees: its G is its slope over 0.5 .. 3 (kes::data_slope),
+// and the instrument and the de-embedding read the same window (regression: the de-embedding
+// compared a 0.5 .. 5 degree reading, beyond the curve's end, with it and returned x 1.64).
+TEST(KesShear, ACurveEndingBelowTheWindowIsReadOverItsOwnRange)
+{
+    kes::FabricData f = linear_fabric(0.1, 0.1, 2.0);
+    f.shear.curve = kes::Curve{{0.0, 0.5, 1.0, 2.0, 3.0}, {0.0, 1.0, 2.0, 4.0, 6.0}};
+    ShearTestOptions o;
+    o.sigma = 0.01;
+    const KesCurveResult measured = kes_shear_test(f, Direction::WARP, o);
+    EXPECT_DOUBLE_EQ(measured.input_summary, 2.0);
+    EXPECT_DOUBLE_EQ(measured.compare_to, 3.0);
+    EXPECT_LT(measured.summary_rel_error, 0.0);
+    EXPECT_GT(measured.summary_rel_error, -0.01);
+    const double scale = shear_deembedding(f, o.model, o.sigma);
+    EXPECT_GT(scale, 1.0);
+    EXPECT_LT(scale, 1.01);
+}
+
 TEST(Instruments, AnisotropicFabricInTheRightOrder)
 {
     // Weft 2.5 times stiffer in bending than warp: the weft strip's bending length is longer by

@@ -13,6 +13,10 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
 {
     if (!(options.sigma > 0) || !(options.gap > 0) || !(options.length > 0))
         throw InputError("kes shear", "sigma", "expected positive spacing, gap and length");
+    // The G window, as far as the input curve reaches (input_G's data_slope stops there too).
+    const double slope_from = kes::instrument::kShearSlopeFrom;
+    const double slope_to = std::min(kes::instrument::kShearSlopeTo, fabric.shear.curve.x.empty() ? 0.0 : fabric.shear.curve.x.back());
+    if (!(slope_to > slope_from)) throw InputError("kes shear", "shear", "expected the shear curve to reach beyond 0.5 degrees");
     std::vector<double> angles = options.angles;
     if (angles.empty()) {
         if (!(options.step > 0) || !(options.max_angle >= kes::instrument::kShearSlopeTo) || options.max_angle >= 60)
@@ -20,8 +24,8 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
         const int steps = static_cast<int>(std::lround(options.max_angle / options.step));
         for (int k = 0; k <= steps; ++k) angles.push_back(k * options.max_angle / steps);
     }
-    if (!std::is_sorted(angles.begin(), angles.end()) || !(angles.front() >= 0) || angles.front() > kes::instrument::kShearSlopeFrom ||
-        angles.back() < kes::instrument::kShearSlopeTo || !(angles.back() < 60))
+    if (!std::is_sorted(angles.begin(), angles.end()) || !(angles.front() >= 0) || angles.front() > slope_from || angles.back() < slope_to ||
+        !(angles.back() < 60))
         throw InputError("kes shear", "angles", "expected increasing angles in [0, 60) degrees covering the G window");
     if (!(options.pretension >= 0)) throw InputError("kes shear", "pretension", "expected a non-negative pre-tension in gf/cm");
     Layout layout;
@@ -47,7 +51,7 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
     r.direction = dir;
     r.sigma = layout.sigma;
     r.compare_from = kes::instrument::kShearSlopeFrom;
-    r.compare_to = angles.back();
+    r.compare_to = std::min(angles.back(), fabric.shear.curve.x.back());  // where the input curve was measured
 
     Positions x(layout.grid().size());
     auto place = [&](double sep, double phi) {
@@ -111,8 +115,8 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
         r.y_central.push_back(dE_central / (central * layout.sigma * N * layout.sigma * std::cos(phi)) / gf_per_cm);
         r.y_input.push_back(curve_value(fabric.shear.curve, phi_deg));
     }
-    finish_kes_result(r, input_G(fabric), kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo);
-    r.central_summary = window_slope(r.x, r.y_central, kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo);
+    finish_kes_result(r, input_G(fabric), slope_from, slope_to);
+    r.central_summary = window_slope(r.x, r.y_central, slope_from, slope_to);
     r.central_rel_error = (r.central_summary - r.input_summary) / r.input_summary;
     return r;
 }
@@ -123,7 +127,9 @@ double shear_deembedding(const kes::FabricData& fabric, const model::ModelOption
     ShearTestOptions o;
     o.sigma = sigma;
     o.model = model;
-    o.angles = {kes::instrument::kShearSlopeFrom, kes::instrument::kShearSlopeTo};
+    if (fabric.shear.curve.x.empty() || !(fabric.shear.curve.x.back() > kes::instrument::kShearSlopeFrom)) return 1.0;
+    // The G window's ends, the upper one where the input curve ends if that is below 5 degrees.
+    o.angles = {kes::instrument::kShearSlopeFrom, std::min(kes::instrument::kShearSlopeTo, fabric.shear.curve.x.back())};
     double scale = 1.0;
     for (int it = 0; it < 8; ++it) {
         o.model.shear_scale = scale;
