@@ -191,6 +191,21 @@ TEST(KesShear, ACurveEndingBelowTheWindowIsReadOverItsOwnRange)
     EXPECT_LT(scale, 1.01);
 }
 
+// The same for a bending curve measured only to 1 1/cm: B over 0.5 .. 1, compared up to 1.
+TEST(KesBending, ACurveEndingBelowTheWindowIsReadOverItsOwnRange)
+{
+    kes::FabricData f = linear_fabric(0.1, 0.1, 1.0);
+    f.bending_warp.curve = kes::Curve{{0.0, 0.25, 0.5, 0.75, 1.0}, {0.0, 0.025, 0.05, 0.075, 0.1}};
+    BendingTestOptions o;
+    o.sigma = 0.001;
+    o.width = 0.01;
+    const KesCurveResult r = kes_bending_test(f, Direction::WARP, o);
+    EXPECT_NEAR(r.input_summary, 0.1, 1e-12);
+    EXPECT_DOUBLE_EQ(r.compare_to, 1.0);
+    EXPECT_NEAR(r.summary_rel_error, 0.0, 5e-3);
+    EXPECT_LT(r.curve_max_rel_error, 0.01);
+}
+
 TEST(Instruments, AnisotropicFabricInTheRightOrder)
 {
     // Weft 2.5 times stiffer in bending than warp: the weft strip's bending length is longer by

@@ -51,8 +51,14 @@ KesCurveResult kes_bending_test(const kes::FabricData& fabric, Direction dir, co
     r.test = "bending";
     r.direction = dir;
     r.sigma = layout.sigma;
+    // The B window and the comparison, as far as the input curve reaches (input_B's data_slope
+    // stops there too).
+    const kes::Curve& input = input_bending(fabric, dir);
+    const double slope_to = std::min(kes::instrument::kBendingSlopeTo, input.x.back());
+    if (!(slope_to > kes::instrument::kBendingSlopeFrom))
+        throw InputError("kes bending", "bending", "expected the bending curve to reach beyond 0.5 1/cm");
     r.compare_from = kes::instrument::kBendingSlopeFrom;
-    r.compare_to = options.max_curvature;
+    r.compare_to = std::min(options.max_curvature, input.x.back());
 
     const int steps = static_cast<int>(std::lround(options.max_curvature / options.step));
     Positions x(layout.grid().size());
@@ -80,9 +86,9 @@ KesCurveResult kes_bending_test(const kes::FabricData& fabric, Direction dir, co
         const double dE_dalpha = dE_dpsi / (N - 1);
         r.x.push_back(K);
         r.y.push_back(dE_dalpha / width / newton_per_gf);  // N m / m = N -> gf (gf.cm/cm)
-        r.y_input.push_back(curve_value(input_bending(fabric, dir), K));
+        r.y_input.push_back(curve_value(input, K));
     }
-    finish_kes_result(r, input_B(fabric, dir), kes::instrument::kBendingSlopeFrom, kes::instrument::kBendingSlopeTo);
+    finish_kes_result(r, input_B(fabric, dir), kes::instrument::kBendingSlopeFrom, slope_to);
     return r;
 }
 
