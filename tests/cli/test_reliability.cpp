@@ -330,6 +330,7 @@ TEST_F(Reliability, Defect10CommandLineValues)
         {"fit cotton --sigma-cm nan", "command line: --sigma-cm: expected a number in (0, 100], got 'nan'"},
         {"kes-test cotton --shear-law raw", "command line: --shear-law: expected deembedded or measured, got 'raw'"},
         {"kes-test cotton --bending-form x", "command line: --bending-form: expected work or secant, got 'x'"},
+        {"cusick silk --shear-law x", "command line: --shear-law: expected deembedded or measured, got 'x'"},
     };
     for (const auto& [args, expected] : cases) {
         const Outcome r = woven(args);

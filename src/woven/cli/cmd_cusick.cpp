@@ -44,6 +44,7 @@ struct CusickCommandOptions {
     std::string seed = "1";
     std::optional<std::string> threads;
     std::optional<std::string> max_steps;
+    std::optional<std::string> shear_law;
     std::optional<std::string> out;
     bool no_render = false;
 };
@@ -154,6 +155,9 @@ int run_cusick(const CusickCommandOptions& o)
     const std::uint64_t seed0 = parse_seed(o.seed, "--seed");
     if (auto t = parse_integer(o.threads, "--threads", 0, 4096)) co.solver.threads = static_cast<int>(*t);
     if (auto m = parse_integer(o.max_steps, "--max-steps", 0, 1000000)) co.solver.max_steps = static_cast<int>(*m);
+    if (o.shear_law)
+        co.model.shear_law = parse_choice(*o.shear_law, "--shear-law", {"deembedded", "measured"}) == 0 ? model::ShearLaw::DEEMBEDDED
+                                                                                                     : model::ShearLaw::MEASURED;
     std::vector<std::string> warnings;
     const kes::FabricData fabric = io::find_fabric(o.fabric, &warnings);
     print_warnings(warnings);
@@ -311,6 +315,7 @@ void add_cusick_command(CLI::App& app, int& exit_code)
     sub->add_option("--seed", o->seed, "Seed of the first run (the others: seed + 1, ...)")->capture_default_str();
     sub->add_option("--threads", o->threads, "Worker threads (0: all cores)");
     sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)");
+    sub->add_option("--shear-law", o->shear_law, "deembedded (the default: the material's law, docs/VALIDATION.md) or measured (the input curve as read)");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->callback([o, &exit_code] { exit_code = run_cusick(*o); });
