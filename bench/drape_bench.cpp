@@ -22,6 +22,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fcntl.h>
@@ -41,6 +42,8 @@ using nlohmann::json;
 
 struct Options {
     std::string woven, bullet, out = "bench-out";
+    std::string blender, blender_script;  ///< the blender binary and bench/peers/blender_drape.py
+    int blender_max_grid = 51;            ///< Blender only up to this grid (it needs minutes beyond)
     std::vector<int> grids{51, 101, 201}, paper_grids{21, 51};
     int repeat = 3;                // runs of a case whose first run is under repeat_below_s
     double repeat_below_s = 60;    // s
@@ -170,13 +173,12 @@ json run_woven(const Options& opt, const std::string& solver, int grid, int thre
     return r;
 }
 
-json run_bullet(const Options& opt, int grid, int rep)
+/// A peer's run (Bullet, Blender: the scene of ../shared/peers, their own settle rule and JSON):
+/// its time is its own stepping time (`wall_seconds`), start-up excluded, as woven's is.
+json run_peer(const Options& opt, const std::string& tool, const std::vector<std::string>& argv, const std::string& json_path, int grid,
+              int rep, int threads)
 {
-    const std::string json_path = opt.out + "/runs/bullet-" + std::to_string(grid) + "-r" + std::to_string(rep) + ".json";
-    const std::vector<std::string> argv{
-        opt.bullet, "--n",    std::to_string(grid), "--maxwall", std::to_string(opt.bullet_max_wall), "--snap-every", "0",
-        "--json",   json_path};
-    json r{{"tool", "bullet"}, {"solver", "bullet"}, {"grid", grid}, {"particles", grid * grid}, {"threads", 1}, {"repeat", rep}};
+    json r{{"tool", tool}, {"solver", tool}, {"grid", grid}, {"particles", grid * grid}, {"threads", threads}, {"repeat", rep}};
     const Outcome o = measured_run(opt, argv, r);
     std::ifstream in(json_path);
     if (in) {
@@ -186,8 +188,28 @@ json run_bullet(const Options& opt, int grid, int rep)
                 if (b.contains(k)) r[k] = b[k];
     }
     r["time_s"] = r.contains("wall_seconds") ? r["wall_seconds"].get<double>() : o.wall;
-    std::cerr << "drape_bench: bullet " << grid << " r" << rep << ": " << r["time_s"].get<double>() << " s\n";
+    std::cerr << "drape_bench: " << tool << " " << grid << " r" << rep << ": " << r["time_s"].get<double>() << " s\n";
     return r;
+}
+
+json run_bullet(const Options& opt, int grid, int rep)
+{
+    const std::string json_path = opt.out + "/runs/bullet-" + std::to_string(grid) + "-r" + std::to_string(rep) + ".json";
+    return run_peer(opt, "bullet",
+                    {opt.bullet, "--n", std::to_string(grid), "--maxwall", std::to_string(opt.bullet_max_wall), "--snap-every", "0", "--json",
+                     json_path},
+                    json_path, grid, rep, 1);
+}
+
+/// Blender 3.4's cloth (the Cotton preset, bench/peers/blender_drape.py) on all cores.
+json run_blender(const Options& opt, int grid, int rep)
+{
+    const std::string json_path = opt.out + "/runs/blender-" + std::to_string(grid) + "-r" + std::to_string(rep) + ".json";
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    return run_peer(opt, "blender",
+                    {opt.blender, "-b", "--factory-startup", "--python", opt.blender_script, "--", "--n", std::to_string(grid), "--maxwall",
+                     std::to_string(opt.bullet_max_wall), "--snap-every", "0", "--json", json_path},
+                    json_path, grid, rep, cores);
 }
 
 double median(std::vector<double> v)
@@ -262,6 +284,12 @@ int main(int argc, char** argv)
             opt.paper_grids = parse_list(value(), a);
         else if (a == "--repeat")
             opt.repeat = std::stoi(value());
+        else if (a == "--blender")
+            opt.blender = value();
+        else if (a == "--blender-script")
+            opt.blender_script = value();
+        else if (a == "--blender-max-grid")
+            opt.blender_max_grid = std::stoi(value());
         else if (a == "--bullet-max-wall")
             opt.bullet_max_wall = std::stod(value());
         else if (a == "--max-wall")
@@ -275,6 +303,7 @@ int main(int argc, char** argv)
         else if (a == "--help" || a == "-h") {
             std::cout << "usage: drape_bench --woven WOVEN [--bullet BULLET] --out DIR [--grids 51,101,201] [--paper-grids 21,51]\n"
                          "       [--repeat 3] [--bullet-max-wall 300] [--max-wall 1800] [--reference-energy J] [--skip-threads2]\n"
+                         "       [--blender BLENDER --blender-script bench/peers/blender_drape.py] [--blender-max-grid 51]\n"
                          "       drape_bench --from-runs RUNS.json --out DIR [--reference-energy J]   (tabulate an earlier run)\n";
             return 0;
         } else {
@@ -291,6 +320,7 @@ int main(int argc, char** argv)
         return 2;
     }
     const bool with_bullet = !opt.bullet.empty() && access(opt.bullet.c_str(), X_OK) == 0;
+    const bool with_blender = !opt.blender.empty() && access(opt.blender.c_str(), X_OK) == 0 && access(opt.blender_script.c_str(), R_OK) == 0;
     fs::create_directories(opt.out + "/runs");
 
     json runs = json::array();
@@ -330,6 +360,7 @@ int main(int argc, char** argv)
             if (w["time_s"].get<double>() > opt.repeat_below_s) break;
         }
         if (with_bullet && !bullet_here) add(run_bullet(opt, grid, 1));  // capped by --bullet-max-wall
+        if (with_blender && grid <= opt.blender_max_grid) add(run_blender(opt, grid, 1));
     }
     for (int grid : opt.from_runs.empty() ? opt.paper_grids : std::vector<int>{}) {
         add(run_woven(opt, "paper", grid, 1, 1));
@@ -380,6 +411,16 @@ int main(int argc, char** argv)
         row("51 x 51: woven at least 20 x faster than Bullet (woven/Bullet <= 0.05), one thread each, same run",
             "ratio " + fmt(r, "%.3f") + " (Bullet/woven " + fmt(1 / r, "%.1f") + " x; pairs: " + std::to_string(ratios.size()) + ")",
             r <= 0.05, std::isfinite(r));
+    }
+    {
+        // Blender runs once per grid, on all cores (its cloth solver is threaded): a reference, not a target.
+        for (const auto& [c, rs] : by_case) {
+            if (c.tool != "blender") continue;
+            const double tb = med(c, "time_s"), tw = t("woven", "fast", c.grid, 1);
+            row(std::to_string(c.grid) + " x " + std::to_string(c.grid) + ": woven (one thread) against Blender (" + std::to_string(c.threads) +
+                    " threads), for reference",
+                "woven/Blender " + fmt(tw / tb, "%.3f") + " (Blender " + fmt(tb, "%.1f") + " s)", tw / tb <= 0.05, std::isfinite(tw / tb));
+        }
     }
     const double t51 = t("woven", "fast", 51, 1), t101 = t("woven", "fast", 101, 1), t201 = t("woven", "fast", 201, 1);
     row("101 x 101 <= 5 s, one thread", fmt(t101, "%.2f") + " s", t101 <= 5, std::isfinite(t101));
@@ -438,9 +479,9 @@ int main(int argc, char** argv)
     const woven::Vec3 colours[] = {{0.12, 0.47, 0.71}, {1.0, 0.5, 0.05}, {0.17, 0.63, 0.17}, {0.84, 0.15, 0.16}, {0.58, 0.40, 0.74}};
     for (const auto& [c, rs] : by_case) {
         if (c.threads == 0) continue;
-        std::string label = c.tool == "bullet"
-            ? "Bullet 3.24, 20 simulated s or 300 s cap"
-            : "woven " + c.solver + ", " + std::to_string(c.threads) + " thread" + (c.threads > 1 ? "s" : "");
+        std::string label = c.tool == "bullet"    ? "Bullet 3.24, 20 simulated s or 300 s cap"
+            : c.tool == "blender"                 ? "Blender 3.4 (Cotton preset, all cores), 20 simulated s or cap"
+                                                  : "woven " + c.solver + ", " + std::to_string(c.threads) + " thread" + (c.threads > 1 ? "s" : "");
         auto& s = series[label];
         s.label = label;
         s.style = woven::render::Series::Style::LINE_AND_POINTS;

@@ -5,6 +5,7 @@
 # bench/NOTES.md (profiles, what dominates, what the missed targets need).
 # Usage: bash bench/run.sh BUILD_DIR        environment: BENCH_GRIDS (default 51,101,201),
 #        BENCH_PAPER_GRIDS (21,51), BENCH_REPEAT (3), BENCH_MATRIX=1 also runs drape_matrix.sh,
+#        BENCH_BLENDER=0 skips the Blender peer (run at 51 x 51 when blender is installed),
 #        BENCH_FROM_RUNS=DIR/runs.json tabulates an earlier (possibly killed) run instead of running,
 #        BENCH_REFERENCE_ENERGY (J) the 51 x 51 energy before the change measured (d519f62 0.4760152)
 set -euo pipefail
@@ -29,6 +30,10 @@ else
   OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 "$build/bench/bench_model" --benchmark_min_time=0.3 > "$out/micro.txt" 2>&1
   bullet=()
   [[ -x "$build/bench/peers/bullet_drape" ]] && bullet=(--bullet "$build/bench/peers/bullet_drape")
+  # Blender where it is installed (apt-get install blender python3-numpy), at 51 x 51 (BENCH_BLENDER=0: skip).
+  if [[ "${BENCH_BLENDER:-1}" != 0 ]] && command -v blender > /dev/null; then
+    bullet+=(--blender "$(command -v blender)" --blender-script "$here/peers/blender_drape.py")
+  fi
   "$build/bench/drape_bench" --woven "$build/woven" "${bullet[@]}" --out "$out" \
     --grids "${BENCH_GRIDS:-51,101,201}" --paper-grids "${BENCH_PAPER_GRIDS:-21,51}" --repeat "${BENCH_REPEAT:-3}" \
     --reference-energy "${BENCH_REFERENCE_ENERGY:-0.4760152008957594}" > /dev/null
