@@ -46,6 +46,7 @@ ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const 
       shear_scale_(options.shear_scale)
 {
     assert(grid.nu > 0 && grid.nv > 0 && grid.sigma > 0);
+    assert(options.shear_scale > 0 && std::isfinite(options.shear_scale));
     const double sigma = grid.sigma;
     const double W = fabric.areal_density_mg_cm2 * units::kMgPerCm2ToKgPerM2;
     // CONVERGENT: each particle's dual cell (stencils.hpp), unless the areas are given.
