@@ -156,8 +156,7 @@ int run_cusick(const CusickCommandOptions& o)
     if (auto t = parse_integer(o.threads, "--threads", 0, 4096)) co.solver.threads = static_cast<int>(*t);
     if (auto m = parse_integer(o.max_steps, "--max-steps", 0, 1000000)) co.solver.max_steps = static_cast<int>(*m);
     if (o.shear_law)
-        co.model.shear_law = parse_choice(*o.shear_law, "--shear-law", {"deembedded", "measured"}) == 0 ? model::ShearLaw::DEEMBEDDED
-                                                                                                     : model::ShearLaw::MEASURED;
+        co.model.shear_law = parse_shear_law(*o.shear_law, "--shear-law");
     std::vector<std::string> warnings;
     const kes::FabricData fabric = io::find_fabric(o.fabric, &warnings);
     print_warnings(warnings);

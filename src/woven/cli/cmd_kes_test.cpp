@@ -203,8 +203,7 @@ int run_kes_test(const KesTestOptions& options)
             ? model::Discretization::CONVERGENT
             : model::Discretization::PAPER;
     if (options.shear_law)
-        mo.shear_law = parse_choice(*options.shear_law, "--shear-law", {"deembedded", "measured"}) == 0 ? model::ShearLaw::DEEMBEDDED
-                                                                                                       : model::ShearLaw::MEASURED;
+        mo.shear_law = parse_shear_law(*options.shear_law, "--shear-law");
     if (options.out) parse_path(*options.out, "--out");
     std::vector<std::string> warnings;
     const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "woven/cli/args.hpp"
 #include "woven/common/error.hpp"
 #include "woven/testers/kes_shear.hpp"
 
@@ -12,7 +13,7 @@ namespace woven::cli {
 void resolve_shear_law(const kes::FabricData& fabric, model::ModelOptions& options)
 {
     options.shear_scale = 1.0;
-    if (options.shear_law != model::ShearLaw::DEEMBEDDED || options.discretization == model::Discretization::PAPER) return;
+    if (options.shear_law != model::ShearLaw::DEEMBEDDED) return;
     try {
         options.shear_scale = testers::shear_deembedding(fabric, options);
     } catch (const RuntimeError& e) {
@@ -30,5 +31,10 @@ std::string shear_law_text(const model::ModelOptions& options)
 }
 
 const char* to_string(model::ShearLaw law) { return law == model::ShearLaw::MEASURED ? "measured" : "deembedded"; }
+
+model::ShearLaw parse_shear_law(const std::string& text, const std::string& option)
+{
+    return parse_choice(text, option, {"deembedded", "measured"}) == 0 ? model::ShearLaw::DEEMBEDDED : model::ShearLaw::MEASURED;
+}
 
 }  // namespace woven::cli

@@ -20,5 +20,7 @@ std::string shear_law_text(const model::ModelOptions& options);
 
 /// "deembedded" or "measured".
 const char* to_string(model::ShearLaw law);
+/// The law a command-line word names (`--shear-law`); InputError naming `option` otherwise.
+model::ShearLaw parse_shear_law(const std::string& text, const std::string& option);
 
 }  // namespace woven::cli

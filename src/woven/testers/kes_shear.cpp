@@ -123,13 +123,14 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
 
 double shear_deembedding(const kes::FabricData& fabric, const model::ModelOptions& model, double sigma, double tolerance)
 {
-    if (model.discretization == model::Discretization::PAPER) return 1.0;
+    const kes::Curve& curve = fabric.shear.curve;
+    if (model.discretization == model::Discretization::PAPER || curve.x.empty() || !(curve.x.back() > kes::instrument::kShearSlopeFrom))
+        return 1.0;
     ShearTestOptions o;
     o.sigma = sigma;
     o.model = model;
-    if (fabric.shear.curve.x.empty() || !(fabric.shear.curve.x.back() > kes::instrument::kShearSlopeFrom)) return 1.0;
     // The G window's ends, the upper one where the input curve ends if that is below 5 degrees.
-    o.angles = {kes::instrument::kShearSlopeFrom, std::min(kes::instrument::kShearSlopeTo, fabric.shear.curve.x.back())};
+    o.angles = {kes::instrument::kShearSlopeFrom, std::min(kes::instrument::kShearSlopeTo, curve.x.back())};
     double scale = 1.0;
     for (int it = 0; it < 8; ++it) {
         o.model.shear_scale = scale;

@@ -60,7 +60,8 @@ inline constexpr double kDeembeddingSpacing = 0.005;
 /// below the material's (kes_shear.hpp). Runs the virtual FB1 (warp along the clamps: the
 /// trellis energy knows no direction) at the G window's ends at `sigma` and iterates
 /// s <- s G_input / G_read(s) until the reading matches the input to `tolerance` (relative).
-/// `model.shear_scale` is ignored. Returns 1 for the paper's discretization (kept literal).
+/// `model.shear_scale` is ignored. Returns 1 for the paper's discretization (kept literal) and
+/// for a curve that ends before the window (nothing to read).
 double shear_deembedding(const kes::FabricData& fabric, const model::ModelOptions& model, double sigma = kDeembeddingSpacing,
                          double tolerance = 1e-3);
 
