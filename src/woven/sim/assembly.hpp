@@ -22,6 +22,8 @@ public:
     SparseAssembly(const model::Stencils& stencils, const std::vector<char>& pinned,
                    const std::vector<model::Stencil<2>>& extra_pairs = {});
 
+    /// Replaces the pattern (self contact changed `extra_pairs`), freeing the old one first.
+    void repattern(const model::Stencils& stencils, const std::vector<model::Stencil<2>>& extra_pairs);
     /// Zeroes gradient and matrix values.
     void clear();
     /// Adds one stencil's local gradient and (with_hessian) Hessian.
@@ -37,6 +39,7 @@ public:
     const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
 
 private:
+    void build(const model::Stencils& stencils, const std::vector<model::Stencil<2>>& extra_pairs);
     /// Positions in valuePtr() of row 3p of columns 3q, 3q+1, 3q+2; nullptr outside the pattern.
     const std::array<int, 3>* block(int p, int q) const;
     std::vector<char> pinned_;

@@ -149,8 +149,8 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             std::vector<model::Stencil<2>> extra = off_pattern_pairs(model, solver.pairs.pairs(x));
             if (extra != extra_pairs) {
                 extra_pairs = std::move(extra);
-                system = SparseAssembly(model.stencils(), solver.pinned, extra_pairs);
                 exact.reset();
+                system.repattern(model.stencils(), extra_pairs);
             }
             solver.assemble(system, x, x_tilde, inv_h2);
             const Eigen::VectorXd& g = system.gradient();

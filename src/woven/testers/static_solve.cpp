@@ -61,7 +61,7 @@ StaticResult solve_static(const model::ClothModel& model, const Positions& x0, c
         std::vector<model::Stencil<2>> now = off_pattern_pairs(model, x);
         if (now != extra) {
             extra = std::move(now);
-            system = sim::SparseAssembly(model.stencils(), fixed, extra);
+            system.repattern(model.stencils(), extra);
             analysed = false;
         }
         system.clear();
