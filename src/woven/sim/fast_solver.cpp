@@ -10,7 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include "woven/common/units.hpp"
 #include "woven/model/pair_cache.hpp"
@@ -119,7 +118,6 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         if (x[i] != problem.initial[i] && gap(x[i]) < std::min(solver.barrier.d_hat, gap(problem.initial[i]))) x[i] = problem.initial[i];
     Positions v(n, Vec3::Zero()), x_tilde(n), x_prev, trial(n), dx(n);
     SparseAssembly system(model.stencils(), solver.pinned);
-    std::optional<SparseAssembly> exact;  // the exact Hessian of the static steps (Newton-CG)
     NewtonLinearSolver linear(NewtonLinearSolver::Options{fo.cg_tolerance, fo.max_cg_iterations});
     Eigen::VectorXd delta;
     std::vector<model::Stencil<2>> extra_pairs;
@@ -149,11 +147,10 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             std::vector<model::Stencil<2>> extra = off_pattern_pairs(model, solver.pairs.pairs(x));
             if (extra != extra_pairs) {
                 extra_pairs = std::move(extra);
-                exact.reset();
                 system.repattern(model.stencils(), extra_pairs);
             }
             solver.assemble(system, x, x_tilde, inv_h2);
-            const Eigen::VectorXd& g = system.gradient();
+            const Eigen::VectorXd g = system.gradient();  // kept: the Newton-CG branch reassembles `system`
             double g_max = 0;  // largest |g_i| / (m_i g) over free particles
             for (int i = 0; i < n; ++i)
                 if (!solver.pinned[i]) g_max = std::max(g_max, g.segment<3>(3 * i).norm() / solver.weight[i]);
@@ -172,9 +169,16 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             // iteration on the 51 x 51 cube of d519f62, whose static steps took 104 iterations;
             // 16 with Newton-CG, the same energy to 1e-8).
             if (static_step && fo.static_newton_cg && g_max < fo.static_newton_cg_below) {
-                if (!exact) exact.emplace(model.stencils(), solver.pinned, extra_pairs);
-                solver.assemble(*exact, x, x_tilde, inv_h2, model::Derivatives::HESSIAN);
-                linear.solve_exact(exact->matrix(), system.matrix(), -g, delta, fo.cg_tolerance);
+                // One matrix for both: the exact Hessian is assembled into `system`, and the
+                // projected one again only when it is factorised.
+                bool holds_exact = false;
+                auto holding = [&](bool exact) -> const Eigen::SparseMatrix<double>& {
+                    if (holds_exact != exact) solver.assemble(system, x, x_tilde, inv_h2, exact ? model::Derivatives::HESSIAN : model::Derivatives::PROJECTED);
+                    holds_exact = exact;
+                    return system.matrix();
+                };
+                linear.solve_exact([&]() -> const Eigen::SparseMatrix<double>& { return holding(true); },
+                                   [&]() -> const Eigen::SparseMatrix<double>& { return holding(false); }, -g, delta, fo.cg_tolerance);
             } else {
                 linear.set_tolerance(static_step ? fo.cg_tolerance : fo.dynamic_cg_tolerance);
                 linear.solve(system.matrix(), -g, delta);
