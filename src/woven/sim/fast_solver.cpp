@@ -172,13 +172,12 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
                 // One matrix for both: the exact Hessian is assembled into `system`, and the
                 // projected one again only when it is factorised.
                 bool holds_exact = false;
-                auto holding = [&](bool exact) -> const Eigen::SparseMatrix<double>& {
+                auto matrix = [&](bool exact) -> const Eigen::SparseMatrix<double>& {
                     if (holds_exact != exact) solver.assemble(system, x, x_tilde, inv_h2, exact ? model::Derivatives::HESSIAN : model::Derivatives::PROJECTED);
                     holds_exact = exact;
                     return system.matrix();
                 };
-                linear.solve_exact([&]() -> const Eigen::SparseMatrix<double>& { return holding(true); },
-                                   [&]() -> const Eigen::SparseMatrix<double>& { return holding(false); }, -g, delta, fo.cg_tolerance);
+                linear.solve_exact(matrix, -g, delta, fo.cg_tolerance);
             } else {
                 linear.set_tolerance(static_step ? fo.cg_tolerance : fo.dynamic_cg_tolerance);
                 linear.solve(system.matrix(), -g, delta);

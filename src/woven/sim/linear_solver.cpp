@@ -133,17 +133,16 @@ NewtonLinearSolver::CgEnd NewtonLinearSolver::truncated_cg(const Eigen::SparseMa
 void NewtonLinearSolver::solve_exact(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& P, const Eigen::VectorXd& rhs,
                                      Eigen::VectorXd& d, double tolerance)
 {
-    solve_exact([&]() -> const Eigen::SparseMatrix<double>& { return A; }, [&]() -> const Eigen::SparseMatrix<double>& { return P; }, rhs, d,
-                tolerance);
+    solve_exact([&](bool exact) -> const Eigen::SparseMatrix<double>& { return exact ? A : P; }, rhs, d, tolerance);
 }
 
-void NewtonLinearSolver::solve_exact(const MatrixSource& A, const MatrixSource& P, const Eigen::VectorXd& rhs, Eigen::VectorXd& d, double tolerance)
+void NewtonLinearSolver::solve_exact(const MatrixSource& matrix, const Eigen::VectorXd& rhs, Eigen::VectorXd& d, double tolerance)
 {
     const SerialOpenMP serial;
-    if (factor_->analysed && truncated_cg(A(), rhs, d, tolerance, options_.max_cg_iterations) != CgEnd::LIMIT) return;
-    factorize(P());
+    if (factor_->analysed && truncated_cg(matrix(true), rhs, d, tolerance, options_.max_cg_iterations) != CgEnd::LIMIT) return;
+    factorize(matrix(false));
     // With a fresh factor the last iterate is kept whatever the end: a descent direction.
-    truncated_cg(A(), rhs, d, tolerance, 4 * options_.max_cg_iterations);
+    truncated_cg(matrix(true), rhs, d, tolerance, 4 * options_.max_cg_iterations);
 }
 
 void NewtonLinearSolver::solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)

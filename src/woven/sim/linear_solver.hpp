@@ -43,11 +43,11 @@ public:
     /// given 4 max_cg_iterations and stops there. d is a descent direction for -rhs.
     void solve_exact(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& P, const Eigen::VectorXd& rhs, Eigen::VectorXd& d,
                      double tolerance);
-    /// The same with A and P given by calls that may assemble them into the same storage: `P()`
-    /// is called only when P is factorised, and `A()` again after it (the fast solver keeps one
-    /// Newton matrix, not two: 56 MB at 201 x 201 particles).
-    using MatrixSource = std::function<const Eigen::SparseMatrix<double>&()>;
-    void solve_exact(const MatrixSource& A, const MatrixSource& P, const Eigen::VectorXd& rhs, Eigen::VectorXd& d, double tolerance);
+    /// The same with A = matrix(true) and P = matrix(false), which may assemble both into the same
+    /// storage: P is asked for only when it is factorised, and A again after it (the fast solver
+    /// keeps one Newton matrix, not two: 56 MB at 201 x 201 particles).
+    using MatrixSource = std::function<const Eigen::SparseMatrix<double>&(bool exact)>;
+    void solve_exact(const MatrixSource& matrix, const Eigen::VectorXd& rhs, Eigen::VectorXd& d, double tolerance);
     /// The CG tolerance of solve() (the forcing term of an inexact Newton method).
     void set_tolerance(double relative_tolerance) { options_.relative_tolerance = relative_tolerance; }
 

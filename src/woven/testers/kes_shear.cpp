@@ -9,13 +9,21 @@
 
 namespace woven::testers {
 
+namespace {
+/// The G window's upper end: kShearSlopeTo, or where the input curve ends if that is sooner (0
+/// without a curve); input_G's data_slope stops there too.
+double shear_window_end(const kes::Curve& curve)
+{
+    return std::min(kes::instrument::kShearSlopeTo, curve.x.empty() ? 0.0 : curve.x.back());
+}
+}  // namespace
+
 KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, const ShearTestOptions& options)
 {
     if (!(options.sigma > 0) || !(options.gap > 0) || !(options.length > 0))
         throw InputError("kes shear", "sigma", "expected positive spacing, gap and length");
-    // The G window, as far as the input curve reaches (input_G's data_slope stops there too).
     const double slope_from = kes::instrument::kShearSlopeFrom;
-    const double slope_to = std::min(kes::instrument::kShearSlopeTo, fabric.shear.curve.x.empty() ? 0.0 : fabric.shear.curve.x.back());
+    const double slope_to = shear_window_end(fabric.shear.curve);
     if (!(slope_to > slope_from)) throw InputError("kes shear", "shear", "expected the shear curve to reach beyond 0.5 degrees");
     std::vector<double> angles = options.angles;
     if (angles.empty()) {
@@ -123,14 +131,12 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
 
 double shear_deembedding(const kes::FabricData& fabric, const model::ModelOptions& model, double sigma, double tolerance)
 {
-    const kes::Curve& curve = fabric.shear.curve;
-    if (model.discretization == model::Discretization::PAPER || curve.x.empty() || !(curve.x.back() > kes::instrument::kShearSlopeFrom))
-        return 1.0;
+    const double window_end = shear_window_end(fabric.shear.curve);
+    if (model.discretization == model::Discretization::PAPER || !(window_end > kes::instrument::kShearSlopeFrom)) return 1.0;
     ShearTestOptions o;
     o.sigma = sigma;
     o.model = model;
-    // The G window's ends, the upper one where the input curve ends if that is below 5 degrees.
-    o.angles = {kes::instrument::kShearSlopeFrom, std::min(kes::instrument::kShearSlopeTo, curve.x.back())};
+    o.angles = {kes::instrument::kShearSlopeFrom, window_end};  // the G window's ends
     double scale = 1.0;
     for (int it = 0; it < 8; ++it) {
         o.model.shear_scale = scale;
