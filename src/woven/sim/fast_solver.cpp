@@ -7,6 +7,7 @@
 // a thread folded flat, contact). The step h doubles while Newton converges, so the
 // cloth first falls and swings (a physical path) and then settles; the run ends when the
 // largest residual force on a free particle is below the tolerance times its weight.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -99,6 +100,12 @@ std::vector<model::Stencil<2>> off_pattern_pairs(const model::ClothModel& model,
 
 }  // namespace
 
+double dynamic_move_tolerance(const model::Grid& grid, const FastSolverOptions& options)
+{
+    const double side = (std::max(grid.nu, grid.nv) - 1) * grid.sigma;
+    return std::max(options.dynamic_step_tolerance * grid.sigma, options.dynamic_step_cloth_fraction * side);
+}
+
 Result fast_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress, const IterationCallback& on_iteration)
 {
     const auto start = std::chrono::steady_clock::now();
@@ -107,6 +114,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
     const model::ClothModel& model = solver.model;
     const int n = model.grid().size();
     const double sigma = model.grid().sigma;
+    const double move_tolerance = dynamic_move_tolerance(model.grid(), fo);
     const int max_steps = options.max_steps > 0 ? options.max_steps : default_max_steps(SolverKind::FAST);
 
     Result result;
@@ -190,7 +198,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             // A dynamic step needs its path, not its forces, resolved: with stiff threads the
             // residual force falls slowly (a step across the cloth of 1 % sigma leaves a
             // second-order stretch of hundreds of m g) while the positions have settled.
-            if (step_max < fo.min_newton_step || (!static_step && step_max < fo.dynamic_step_tolerance * sigma)) {
+            if (step_max < fo.min_newton_step || (!static_step && step_max < move_tolerance)) {
                 newton_converged = true;
                 break;
             }
