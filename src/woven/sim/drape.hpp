@@ -55,7 +55,7 @@ struct FastSolverOptions {
     /// ... or more than this times the cloth's longer side, where that is more: the fall's path
     /// needs resolving to a fraction of the cloth, not of the spacing (the 51 x 51 cube's 0.03
     /// sigma is 6e-4 of its side; on the 101 x 101 cube 0.05 sigma took 568 -> 403 Newton
-    /// iterations and a lower drape, bench/NOTES.md "Session 8")
+    /// iterations and a lower drape; 201 x 201 was not faster, bench/NOTES.md "Session 8")
     double dynamic_step_cloth_fraction = 5e-4;
     double static_tolerance_factor = 0.5;  ///< static Newton tolerance, times residual_tolerance (below the equilibrium test's, which lets obstacles push)
     double min_newton_step = 1e-10;   ///< m: a Newton step whose largest particle move is below this has converged
