@@ -89,7 +89,8 @@ void close_pairs(benchmark::State& state)
     per_particle(state, s.grid.size());
 }
 
-/// One Newton linear solve from scratch: symbolic analysis, factorisation and solve.
+/// One Newton linear solve from scratch: symbolic analysis, factorisation and solve (the
+/// nested-dissection order is the assembly's, made once per pattern).
 void newton_solve_factorise(benchmark::State& state)
 {
     const Setup s(static_cast<int>(state.range(0)));
@@ -103,17 +104,19 @@ void newton_solve_factorise(benchmark::State& state)
     per_particle(state, s.grid.size());
 }
 
-/// The numeric factorisation alone, the symbolic analysis (ordering) done once, as in a drape
-/// (which analyses again only when the self-contact pattern changes). CHOLMOD supernodal with
-/// the nested-dissection ordering of linear_solver.cpp.
+/// The numeric factorisation alone, the symbolic analysis done once, as in a drape (which
+/// analyses again only when the self-contact pattern changes). CHOLMOD supernodal on the
+/// assembly's matrix as it is stored: its lower triangle in the nested-dissection order
+/// (assembly.hpp, linear_solver.cpp).
 void newton_refactorise(benchmark::State& state)
 {
     const Setup s(static_cast<int>(state.range(0)));
     const sim::SparseAssembly system = s.newton_system();
-    const Eigen::SparseMatrix<double> lower = system.matrix().triangularView<Eigen::Lower>();
+    const Eigen::SparseMatrix<double>& lower = system.matrix();
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
     llt.cholmod().nmethods = 1;
-    llt.cholmod().method[0].ordering = CHOLMOD_NESDIS;
+    llt.cholmod().method[0].ordering = CHOLMOD_NATURAL;
+    llt.cholmod().postorder = 0;
     llt.analyzePattern(lower);
     // CHOLMOD's supernodal loops would start their own OpenMP threads: one thread, as in the
     // drape (linear_solver.cpp's SerialOpenMP).

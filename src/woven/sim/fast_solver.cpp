@@ -127,7 +127,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
     Positions v(n, Vec3::Zero()), x_tilde(n), x_prev, trial(n), dx(n);
     SparseAssembly system(model.stencils(), solver.pinned);
     NewtonLinearSolver linear(NewtonLinearSolver::Options{fo.cg_tolerance, fo.max_cg_iterations});
-    Eigen::VectorXd delta;
+    Eigen::VectorXd delta, rhs, solution;  // delta in particle order; rhs, solution in the matrix's (assembly.hpp)
     std::vector<model::Stencil<2>> extra_pairs;
 
     double h = options.time_step;
@@ -155,6 +155,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             std::vector<model::Stencil<2>> extra = off_pattern_pairs(model, solver.pairs.pairs(x));
             if (extra != extra_pairs) {
                 extra_pairs = std::move(extra);
+                linear.release();  // its factor of the old pattern would coexist with the new pattern's ordering
                 system.repattern(model.stencils(), extra_pairs);
             }
             solver.assemble(system, x, x_tilde, inv_h2);
@@ -185,11 +186,14 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
                     holds_exact = exact;
                     return system.matrix();
                 };
-                linear.solve_exact(matrix, -g, delta, fo.cg_tolerance);
+                system.to_matrix_order(-g, rhs);
+                linear.solve_exact(matrix, rhs, solution, fo.cg_tolerance);
             } else {
                 linear.set_tolerance(static_step ? fo.cg_tolerance : fo.dynamic_cg_tolerance);
-                linear.solve(system.matrix(), -g, delta);
+                system.to_matrix_order(-g, rhs);
+                linear.solve(system.matrix(), rhs, solution);
             }
+            system.from_matrix_order(solution, delta);
             double step_max = 0;
             for (int i = 0; i < n; ++i) {
                 dx[i] = delta.segment<3>(3 * i);

@@ -13,6 +13,15 @@
 namespace woven::sim {
 
 struct NewtonLinearSolver::Factor {
+    Factor()
+    {
+        // The matrix comes in its fill-reducing order (fill_reducing_order): factorised as it
+        // is, CHOLMOD reads it in place instead of making two permuted copies at every
+        // factorisation (4.5 % of the 101 x 101 cube's time, 58 MB at 201 x 201).
+        llt.cholmod().nmethods = 1;
+        llt.cholmod().method[0].ordering = CHOLMOD_NATURAL;
+        llt.cholmod().postorder = 0;  // the order is postordered already
+    }
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
     /// The structure last analysed (H's column starts and row indices; values are not kept).
     std::vector<int> outer, inner;
@@ -21,11 +30,45 @@ struct NewtonLinearSolver::Factor {
 
 NewtonLinearSolver::NewtonLinearSolver() : NewtonLinearSolver(Options{}) {}
 
-NewtonLinearSolver::NewtonLinearSolver(Options options) : options_(options), factor_(std::make_unique<Factor>())
+NewtonLinearSolver::NewtonLinearSolver(Options options) : options_(options), factor_(std::make_unique<Factor>()) {}
+
+std::vector<int> fill_reducing_order(int size, const std::vector<int>& column_starts, const std::vector<int>& rows)
 {
-    // Nested dissection orders a cloth grid with ~20 % less fill than AMD.
-    factor_->llt.cholmod().nmethods = 1;
-    factor_->llt.cholmod().method[0].ordering = CHOLMOD_NESDIS;
+    if (size == 0) return {};
+    cholmod_common common;
+    cholmod_start(&common);
+    // Nested dissection orders a cloth grid with ~20 % less fill than AMD; postordered, as
+    // CHOLMOD's own analysis does.
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_NESDIS;
+    cholmod_sparse pattern{};
+    pattern.nrow = pattern.ncol = static_cast<size_t>(size);
+    pattern.nzmax = rows.size();
+    pattern.p = const_cast<int*>(column_starts.data());
+    pattern.i = const_cast<int*>(rows.data());
+    pattern.stype = -1;  // symmetric, its lower triangle read
+    pattern.itype = CHOLMOD_INT;
+    pattern.xtype = CHOLMOD_PATTERN;
+    pattern.dtype = CHOLMOD_DOUBLE;
+    pattern.sorted = 1;
+    pattern.packed = 1;
+    cholmod_factor* symbolic = cholmod_analyze(&pattern, &common);
+    std::vector<int> order;
+    if (symbolic) {
+        const int* perm = static_cast<const int*>(symbolic->Perm);
+        order.assign(perm, perm + size);
+        cholmod_free_factor(&symbolic, &common);
+    }
+    cholmod_finish(&common);
+    if (order.empty()) throw RuntimeError("fast solver: the Newton matrix could not be ordered");
+    return order;
+}
+
+void NewtonLinearSolver::release()
+{
+    factor_.reset();
+    factor_ = std::make_unique<Factor>();
+    failed_attempts_ = attempts_to_skip_ = 0;
 }
 
 NewtonLinearSolver::~NewtonLinearSolver() = default;
@@ -112,7 +155,7 @@ NewtonLinearSolver::CgEnd NewtonLinearSolver::truncated_cg(const Eigen::SparseMa
     double rz = r.dot(z);
     for (int k = 0; k < max_iterations; ++k) {
         if (r.norm() <= target) return CgEnd::CONVERGED;
-        Ap.noalias() = A * p;
+        Ap.noalias() = A.selfadjointView<Eigen::Lower>() * p;
         const double pAp = p.dot(Ap);
         if (!(pAp > 0)) {
             if (k == 0) d = z;  // P^-1 rhs: the projected Newton step

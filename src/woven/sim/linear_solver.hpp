@@ -10,6 +10,7 @@
 // direction.
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include <Eigen/Sparse>
 
@@ -32,8 +33,10 @@ public:
     NewtonLinearSolver(const NewtonLinearSolver&) = delete;
     NewtonLinearSolver& operator=(const NewtonLinearSolver&) = delete;
 
-    /// Solves H d = rhs for symmetric positive definite H (both triangles stored). Throws
-    /// RuntimeError if H cannot be factorised even with a diagonal shift.
+    /// Solves H d = rhs for symmetric positive definite H, of which the lower triangle is read
+    /// (an upper one is ignored), in the order it comes: give it in a fill-reducing order
+    /// (fill_reducing_order, SparseAssembly). Throws RuntimeError if H cannot be factorised even
+    /// with a diagonal shift.
     void solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d);
     /// Solves A d = rhs to |A d - rhs| <= tolerance |rhs| by CG preconditioned with the factor
     /// of the positive definite P (factorised afresh when the last factor no longer gives
@@ -48,6 +51,9 @@ public:
     /// keeps one Newton matrix, not two: 56 MB at 201 x 201 particles).
     using MatrixSource = std::function<const Eigen::SparseMatrix<double>&(bool exact)>;
     void solve_exact(const MatrixSource& matrix, const Eigen::VectorXd& rhs, Eigen::VectorXd& d, double tolerance);
+    /// Frees the factorisation (the next solve factorises afresh): before a new pattern is
+    /// built, so that its ordering does not coexist with the old factor.
+    void release();
     /// The CG tolerance of solve() (the forcing term of an inexact Newton method).
     void set_tolerance(double relative_tolerance) { options_.relative_tolerance = relative_tolerance; }
 
@@ -69,6 +75,11 @@ private:
     int failed_attempts_ = 0;  ///< stale-factor CG attempts of solve() that failed, in a row
     int attempts_to_skip_ = 0;  ///< solve() calls left that factorise without trying the stale factor
 };
+
+/// A fill-reducing order of the unknowns of a symmetric matrix of `size` unknowns whose lower
+/// triangle has the given pattern (compressed columns, rows ascending): CHOLMOD's nested
+/// dissection, postordered. Unknown order[k] comes k-th. Throws RuntimeError on failure.
+std::vector<int> fill_reducing_order(int size, const std::vector<int>& column_starts, const std::vector<int>& rows);
 
 /// Threads the BLAS under the factorisation may use (OpenBLAS; a no-op for other BLAS).
 void set_blas_threads(int threads);

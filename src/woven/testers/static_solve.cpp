@@ -99,15 +99,16 @@ StaticResult solve_static(const model::ClothModel& model, const Positions& x0, c
             delta = ldlt.solve(-g);
             return delta.allFinite() && delta.dot(g) < 0;
         };
-        bool factored = mu == 0 && try_factor(system.matrix(), 0.0);
+        bool factored = mu == 0 && try_factor(system.full_matrix(), 0.0);
         if (!factored) {
             system.clear();
             model.evaluate(x, model::Derivatives::PROJECTED, system);
             system.finish();
-            factored = try_factor(system.matrix(), mu);
+            const Eigen::SparseMatrix<double> projected = system.full_matrix();
+            factored = try_factor(projected, mu);
             for (int attempt = 0; !factored && attempt < 40; ++attempt) {
                 mu = std::max(10.0 * mu, 1e-10);
-                factored = try_factor(system.matrix(), mu);
+                factored = try_factor(projected, mu);
             }
         }
         if (!factored) break;
