@@ -41,6 +41,7 @@ std::vector<int> fill_reducing_order(int size, const std::vector<int>& column_st
     // CHOLMOD's own analysis does.
     common.nmethods = 1;
     common.method[0].ordering = CHOLMOD_NESDIS;
+    common.supernodal = CHOLMOD_SIMPLICIAL;  // the order only: no supernodal symbolic factor
     cholmod_sparse pattern{};
     pattern.nrow = pattern.ncol = static_cast<size_t>(size);
     pattern.nzmax = rows.size();
