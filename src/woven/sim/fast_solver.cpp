@@ -189,7 +189,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
                 system.to_matrix_order(-g, rhs);
                 linear.solve_exact(matrix, rhs, solution, fo.cg_tolerance);
             } else {
-                linear.set_tolerance(static_step ? fo.cg_tolerance : fo.dynamic_cg_tolerance);
+                linear.set_tolerance(static_step ? fo.static_projected_cg_tolerance : fo.dynamic_cg_tolerance);
                 system.to_matrix_order(-g, rhs);
                 linear.solve(system.matrix(), rhs, solution);
             }
