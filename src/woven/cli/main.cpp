@@ -69,8 +69,8 @@ namespace {
 /// Keeps freed blocks of up to 32 MiB in the heap instead of returning them to the kernel. Each
 /// Newton iteration's factorisation allocates and frees CHOLMOD's permuted copy of the matrix
 /// (84 % of the 51 x 51 cube's page faults); returned, it came back as fresh pages: the 101 x 101
-/// cube made 9 times the minor page faults and spent 7.3 s of system time against 2.7 s with
-/// this (bench/NOTES.md). Results do not depend on it.
+/// cube made 1.51 million minor page faults instead of 26.5 thousand and spent 7.3-7.8 s of
+/// system time against 2.7 s with this (bench/NOTES.md). Results do not depend on it.
 void keep_freed_memory()
 {
 #if defined(__GLIBC__)
