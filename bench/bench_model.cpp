@@ -18,6 +18,7 @@
 #include "woven/io/mesh_file.hpp"
 #include "woven/sim/assembly.hpp"
 #include "woven/sim/linear_solver.hpp"
+#include "woven/sim/split_cholesky.hpp"
 
 namespace {
 
@@ -133,6 +134,50 @@ void newton_refactorise(benchmark::State& state)
     state.counters["matrix_nonzeros"] = static_cast<double>(lower.nonZeros());
 }
 
+/// The same numeric factorisation split at the top separator (sim/split_cholesky.hpp), its two
+/// sides on two threads (as the drape factorises with two threads or more), or on one (arg 1):
+/// against newton_refactorise, the separator's dense work and the threads' gain.
+void newton_refactorise_split(benchmark::State& state)
+{
+    const Setup s(static_cast<int>(state.range(0)));
+    const bool parallel = state.range(1) == 2;
+    const sim::SparseAssembly system = s.newton_system();
+    const Eigen::SparseMatrix<double>& lower = system.matrix();
+    const auto split = sim::SplitCholesky::find(lower, 1000, 4096);
+    if (!split) {
+        state.SkipWithError("no split");
+        return;
+    }
+    sim::SplitCholesky factor(lower, *split);
+    const int levels = omp_get_max_active_levels();
+    omp_set_max_active_levels(0);
+    for (auto _ : state)
+        if (!factor.factorize(lower, 0, parallel)) state.SkipWithError("not positive definite");
+    omp_set_max_active_levels(levels);
+    per_particle(state, s.grid.size());
+    state.counters["separator"] = static_cast<double>(lower.cols() - split->separator_begin);
+    state.counters["sides"] = static_cast<double>(split->side_end) / split->separator_begin;
+}
+
+/// A solve with the split factor (one CG iteration's preconditioner), on `arg 1` threads.
+void newton_solve_split(benchmark::State& state)
+{
+    const Setup s(static_cast<int>(state.range(0)));
+    const bool parallel = state.range(1) == 2;
+    const sim::SparseAssembly system = s.newton_system();
+    const Eigen::SparseMatrix<double>& lower = system.matrix();
+    const auto split = sim::SplitCholesky::find(lower, 1000, 4096);
+    if (!split) {
+        state.SkipWithError("no split");
+        return;
+    }
+    sim::SplitCholesky factor(lower, *split);
+    const Eigen::VectorXd rhs = Eigen::VectorXd::Ones(lower.rows());
+    if (!factor.factorize(lower, 0, parallel)) state.SkipWithError("not positive definite");
+    for (auto _ : state) benchmark::DoNotOptimize(factor.solve(rhs, parallel).data());
+    per_particle(state, s.grid.size());
+}
+
 /// One Newton linear solve reusing the last factorisation (the common case: CG preconditioned
 /// by the factor of a nearby matrix; here the same matrix).
 void newton_solve_reuse(benchmark::State& state)
@@ -180,6 +225,9 @@ BENCHMARK(close_pairs) WOVEN_GRIDS;
 BENCHMARK(newton_solve_factorise) WOVEN_GRIDS;
 BENCHMARK(newton_refactorise) WOVEN_GRIDS;
 BENCHMARK(newton_solve_reuse) WOVEN_GRIDS;
+#define WOVEN_SPLIT_GRIDS ->Args({51, 1})->Args({51, 2})->Args({101, 1})->Args({101, 2})->Args({201, 1})->Args({201, 2})->Unit(benchmark::kMillisecond)
+BENCHMARK(newton_refactorise_split) WOVEN_SPLIT_GRIDS;
+BENCHMARK(newton_solve_split) WOVEN_SPLIT_GRIDS;
 BENCHMARK(mesh_obstacle_closest) WOVEN_GRIDS;
 
 }  // namespace

@@ -7,6 +7,9 @@ find_package(tinyobjloader REQUIRED)
 find_package(embree 3 REQUIRED)
 find_package(OpenMP REQUIRED)
 find_package(Threads REQUIRED)
+# oneTBB: the solver's threads (the model's local terms, the two sides of the factorisation);
+# its idle workers sleep soon, so a busy machine is not slowed by threads spinning.
+find_package(TBB REQUIRED)
 
 # stb (stb_image_write, stb_easy_font): Debian ships the implementations as libstb.
 find_path(STB_INCLUDE_DIR stb/stb_image_write.h REQUIRED)
@@ -22,3 +25,5 @@ find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
 add_library(woven_cholmod INTERFACE)
 target_include_directories(woven_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
 target_link_libraries(woven_cholmod INTERFACE ${CHOLMOD_LIBRARY} ${CMAKE_DL_LIBS})
+# LAPACK (OpenBLAS's, under CHOLMOD too): the dense separator of the two-thread factorisation.
+find_package(LAPACK REQUIRED)

@@ -9,8 +9,15 @@
 //
 // The grid convention is grid.hpp's; which particles each term touches, stencils.hpp's; the
 // terms themselves, terms.hpp's. Height is z; gravity acts along -z.
+#include <algorithm>
 #include <cassert>
+#include <cmath>
+#include <cstddef>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 #include "woven/common/types.hpp"
 #include "woven/kes/fabric.hpp"
@@ -153,19 +160,41 @@ ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, con
 
 namespace detail {
 
+/// Stencils evaluated at once (on oneTBB's threads) before their derivatives go to the sink in
+/// order; batches of fewer than kParallelStencils are evaluated on the calling thread.
+inline constexpr std::size_t kStencilBatch = 2048;
+inline constexpr std::ptrdiff_t kParallelStencils = 128;
+
 /// Sums one term over its stencils, each times its weight (stencils.hpp), and sends the local
-/// derivatives to the sink.
+/// derivatives to the sink. The local terms of a batch of stencils are evaluated on oneTBB's
+/// threads; the sums and the sink see them in the stencils' order, so the bits do not depend
+/// on the thread count.
 template <class T, class Sink>
 double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>>& stencils, const std::vector<double>& weights, const Positions& x, Derivatives what, Sink& sink)
 {
     constexpr int N = T::kParticles;
     double sum = 0;
-    for (std::size_t k = 0; k < stencils.size(); ++k) {
-        const Stencil<N>& s = stencils[k];
-        Local<N> l = term.evaluate(gather<N>(x, s), what);
-        if (!weights.empty() && weights[k] != 1.0) scale_local(l, weights[k]);
-        sum += l.value;
-        if (what != Derivatives::NONE && !l.vanishes && std::isfinite(l.value)) sink.template add<N>(id, s, l, what != Derivatives::GRADIENT);
+    std::vector<Local<N>> locals(std::min(kStencilBatch, stencils.size()));
+    for (std::size_t begin = 0; begin < stencils.size(); begin += kStencilBatch) {
+        const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(std::min(kStencilBatch, stencils.size() - begin));
+        const auto evaluate = [&](std::ptrdiff_t from, std::ptrdiff_t to) {
+            for (std::ptrdiff_t k = from; k < to; ++k) {
+                const std::size_t n = begin + static_cast<std::size_t>(k);
+                locals[k] = term.evaluate(gather<N>(x, stencils[n]), what);
+                if (!weights.empty() && weights[n] != 1.0) scale_local(locals[k], weights[n]);
+            }
+        };
+        if (count < kParallelStencils)
+            evaluate(0, count);
+        else
+            tbb::parallel_for(tbb::blocked_range<std::ptrdiff_t>(0, count, (count + 1) / 2),
+                              [&](const tbb::blocked_range<std::ptrdiff_t>& r) { evaluate(r.begin(), r.end()); }, tbb::simple_partitioner());
+        for (std::ptrdiff_t k = 0; k < count; ++k) {
+            const Local<N>& l = locals[k];
+            sum += l.value;
+            if (what != Derivatives::NONE && !l.vanishes && std::isfinite(l.value))
+                sink.template add<N>(id, stencils[begin + static_cast<std::size_t>(k)], l, what != Derivatives::GRADIENT);
+        }
     }
     return sum;
 }

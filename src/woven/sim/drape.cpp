@@ -1,8 +1,10 @@
 #include "woven/sim/drape.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include <omp.h>
+#include <tbb/global_control.h>
 
 #include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
@@ -92,15 +94,18 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
 
 namespace {
 
-/// Sets the OpenMP thread count for its lifetime (threads > 0) and the BLAS's to one (the
-/// solvers' only BLAS work is CHOLMOD's, which runs on one thread for the same bits on any
-/// thread count, linear_solver.cpp: set once here, not switched at every solve), restoring
-/// both after.
+/// Sets the thread count of oneTBB (the solvers' threads) and OpenMP for its lifetime
+/// (threads > 0) and the BLAS's to one (the solvers' only BLAS work is CHOLMOD's, each
+/// factorisation on one thread, linear_solver.cpp: set once here, not switched at every solve),
+/// restoring both after.
 class ThreadCount {
 public:
     explicit ThreadCount(int threads) : omp_(omp_get_max_threads()), blas_(blas_threads()), set_(threads > 0)
     {
-        if (set_) omp_set_num_threads(threads);
+        if (set_) {
+            omp_set_num_threads(threads);
+            tbb_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+        }
         if (blas_ > 1) set_blas_threads(1);
     }
     ~ThreadCount()
@@ -114,6 +119,7 @@ public:
 private:
     int omp_, blas_;
     bool set_;
+    std::optional<tbb::global_control> tbb_;
 };
 
 }  // namespace

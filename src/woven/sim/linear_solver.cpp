@@ -2,15 +2,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <Eigen/CholmodSupport>
 #include <dlfcn.h>
 #include <omp.h>
+#include <tbb/global_control.h>
 
 #include "woven/common/error.hpp"
+#include "woven/sim/split_cholesky.hpp"
 
 namespace woven::sim {
+
+namespace {
+/// The two-thread factorisation (SplitCholesky) is used from this many unknowns on each side of
+/// the top separator (below it the threads' start-up and the separator's dense work outweigh
+/// the halved factorisation), with a separator of at most so many unknowns (its dense factor).
+constexpr int kMinSplitSide = 2000;
+constexpr int kMaxSplitSeparator = 4096;
+}  // namespace
 
 struct NewtonLinearSolver::Factor {
     Factor()
@@ -22,10 +33,16 @@ struct NewtonLinearSolver::Factor {
         llt.cholmod().method[0].ordering = CHOLMOD_NATURAL;
         llt.cholmod().postorder = 0;  // the order is postordered already
     }
+    Eigen::VectorXd solve(const Eigen::VectorXd& b) const { return split ? split->solve(b, true) : Eigen::VectorXd(llt.solve(b)); }
+
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+    /// With two threads or more and a large matrix: both sides of its top separator at once,
+    /// in place of llt.
+    std::unique_ptr<SplitCholesky> split;
     /// The structure last analysed (H's column starts and row indices; values are not kept).
     std::vector<int> outer, inner;
     bool analysed = false;
+    int threads = 1;  ///< oneTBB's thread count at the analysis
 };
 
 NewtonLinearSolver::NewtonLinearSolver() : NewtonLinearSolver(Options{}) {}
@@ -121,21 +138,33 @@ void NewtonLinearSolver::factorize(const Eigen::SparseMatrix<double>& matrix)
     // H itself goes to CHOLMOD, as symmetric with its lower triangle stored (stype -1): CHOLMOD
     // ignores the entries above the diagonal, so no triangle is copied (at 201 x 201 a copy
     // and the kept pattern were 2 x 28 MB, and the copy 1.5 % of the 51 x 51 drape's time).
-    if (!f.analysed || !same_structure(H, f.outer, f.inner)) {
-        f.llt.analyzePattern(H);
+    const int threads = static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    if (!f.analysed || threads != f.threads || !same_structure(H, f.outer, f.inner)) {
+        f.split.reset();
+        std::optional<SplitCholesky::Split> split;
+        if (threads >= 2) split = SplitCholesky::find(H, kMinSplitSide, kMaxSplitSeparator);
+        if (split)
+            f.split = std::make_unique<SplitCholesky>(H, *split);
+        else
+            f.llt.analyzePattern(H);
         f.outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
         f.inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
         f.analysed = true;
+        f.threads = threads;
     }
     // Round-off can leave a nearly singular H (an unloaded thread, a long static step) just
     // short of positive definite: shift the diagonal until the factorisation succeeds.
     double shift = 0;
     const double scale = H.diagonal().cwiseAbs().maxCoeff();
     for (int attempt = 0; attempt < 8; ++attempt) {
-        f.llt.setShift(shift);
-        f.llt.factorize(H);
         ++factorizations_;
-        if (f.llt.info() == Eigen::Success) return;
+        if (f.split) {
+            if (f.split->factorize(H, shift, true)) return;
+        } else {
+            f.llt.setShift(shift);
+            f.llt.factorize(H);
+            if (f.llt.info() == Eigen::Success) return;
+        }
         shift = shift == 0 ? 1e-12 * scale : 100 * shift;
     }
     f.analysed = false;
@@ -152,7 +181,7 @@ NewtonLinearSolver::CgEnd NewtonLinearSolver::truncated_cg(const Eigen::SparseMa
 {
     const double target = tolerance * rhs.norm();
     d.setZero(rhs.size());
-    Eigen::VectorXd r = rhs, z = factor_->llt.solve(r), p = z, Ap(rhs.size());
+    Eigen::VectorXd r = rhs, z = factor_->solve(r), p = z, Ap(rhs.size());
     double rz = r.dot(z);
     for (int k = 0; k < max_iterations; ++k) {
         if (r.norm() <= target) return CgEnd::CONVERGED;
@@ -166,7 +195,7 @@ NewtonLinearSolver::CgEnd NewtonLinearSolver::truncated_cg(const Eigen::SparseMa
         d += a * p;
         r -= a * Ap;
         ++cg_iterations_;
-        z = factor_->llt.solve(r);
+        z = factor_->solve(r);
         const double rz_next = r.dot(z);
         p = z + (rz_next / rz) * p;
         rz = rz_next;
@@ -203,7 +232,7 @@ void NewtonLinearSolver::solve(const Eigen::SparseMatrix<double>& H, const Eigen
         --attempts_to_skip_;
     }
     factorize(H);
-    d = factor_->llt.solve(rhs);
+    d = factor_->solve(rhs);
 }
 
 void set_blas_threads(int threads)

@@ -1,0 +1,311 @@
+#include "woven/sim/split_cholesky.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstring>
+#include <exception>
+
+#include <cholmod.h>
+#include <omp.h>
+#include <tbb/parallel_invoke.h>
+
+#include "woven/common/error.hpp"
+
+// LAPACK (OpenBLAS), with gfortran's hidden string lengths.
+extern "C" {
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t uplo_length);
+void dlauum_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t uplo_length);
+}
+
+namespace woven::sim {
+
+namespace {
+
+/// f(0) and f(1), on two of oneTBB's threads when `parallel` (its workers persist: a thread
+/// started per call cost the 51 x 51 cube 5 s of system time); rethrows their first exception.
+/// CHOLMOD's OpenMP loops stay on the thread that runs f: OpenMP's max-active-levels is a
+/// per-thread setting, and a worker's default let CHOLMOD start 4 threads of its own (the
+/// 51 x 51 factorisation took 38 ms instead of 7.5).
+template <class F>
+void for_both_sides(bool parallel, const F& f)
+{
+    std::array<std::exception_ptr, 2> errors;
+    const auto run = [&](int g) {
+        omp_set_max_active_levels(0);
+        try {
+            f(g);
+        } catch (...) {
+            errors[g] = std::current_exception();
+        }
+    };
+    if (parallel) {
+        tbb::parallel_invoke([&] { run(0); }, [&] { run(1); });
+    } else {
+        run(0);
+        run(1);
+    }
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
+}
+
+/// The elimination tree of the symmetric matrix whose lower triangle is given (Liu's algorithm
+/// with path compression): parent[k] = -1 for a root.
+std::vector<int> elimination_tree(const Eigen::SparseMatrix<double>& lower)
+{
+    const int n = static_cast<int>(lower.cols());
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    // Row k's entries left of the diagonal: the transpose's columns.
+    std::vector<int> row_start(n + 1, 0);
+    for (int j = 0; j < n; ++j)
+        for (int q = outer[j]; q < outer[j + 1]; ++q)
+            if (inner[q] > j) ++row_start[inner[q] + 1];
+    for (int k = 0; k < n; ++k) row_start[k + 1] += row_start[k];
+    std::vector<int> row_columns(row_start[n]), fill(row_start.begin(), row_start.end() - 1);
+    for (int j = 0; j < n; ++j)
+        for (int q = outer[j]; q < outer[j + 1]; ++q)
+            if (inner[q] > j) row_columns[fill[inner[q]]++] = j;
+    std::vector<int> parent(n, -1), ancestor(n, -1);
+    for (int k = 0; k < n; ++k)
+        for (int q = row_start[k]; q < row_start[k + 1]; ++q)
+            for (int i = row_columns[q]; i != -1 && i < k;) {
+                const int next = ancestor[i];
+                ancestor[i] = k;
+                if (next == -1) parent[i] = k;
+                i = next;
+            }
+    return parent;
+}
+
+}  // namespace
+
+std::optional<SplitCholesky::Split> SplitCholesky::find(const Eigen::SparseMatrix<double>& lower, int min_side, int max_separator)
+{
+    const int n = static_cast<int>(lower.cols());
+    if (n != lower.rows() || n < 2 * min_side + 1 || !lower.isCompressed()) return std::nullopt;
+    const std::vector<int> parent = elimination_tree(lower);
+    if (parent[n - 1] != -1) return std::nullopt;
+    std::vector<int> children(n, 0);
+    for (int j = 0; j < n; ++j)
+        if (parent[j] >= 0) ++children[parent[j]];
+    // The separator: the chain from the root down to the first node with other than one child.
+    int separator_begin = n - 1;
+    while (separator_begin > 0 && children[separator_begin] == 1 && parent[separator_begin - 1] == separator_begin) --separator_begin;
+    if (n - separator_begin > max_separator) return std::nullopt;
+    // The sides: a cut m between whole subtrees (no column before it has its parent in
+    // [m, separator_begin)), as even as possible.
+    int best = -1, reach = -1;
+    for (int m = 1; m < separator_begin; ++m) {
+        const int p = parent[m - 1];
+        if (p >= 0 && p < separator_begin) reach = std::max(reach, p);
+        if (reach >= m || m < min_side || separator_begin - m < min_side) continue;
+        if (best < 0 || std::abs(2 * m - separator_begin) < std::abs(2 * best - separator_begin)) best = m;
+    }
+    if (best < 0) return std::nullopt;
+    // A's entries never couple the sides (they join a column to its ancestors): checked.
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    for (int j = 0; j < best; ++j)
+        for (int q = outer[j]; q < outer[j + 1]; ++q)
+            if (inner[q] >= best && inner[q] < separator_begin) return std::nullopt;
+    return Split{best, separator_begin};
+}
+
+/// One side with the separator appended: B = [Agg AgT; ATg ATT] and its factor.
+struct SplitCholesky::Side {
+    int first = 0, end = 0;               ///< the side's columns of A
+    int separator_begin = 0, size = 0;    ///< the separator's columns of A: [separator_begin, size)
+    std::vector<int> column_starts, rows;  ///< B's lower triangle
+    cholmod_common common{};
+    cholmod_factor* factor = nullptr;
+    Eigen::MatrixXd corner;  ///< C, B's factor's last diagonal block (lower)
+
+    int own() const { return end - first; }
+    int separator() const { return size - separator_begin; }
+    int dimension() const { return own() + separator(); }
+
+    Side(const Eigen::SparseMatrix<double>& lower, int first_column, int end_column, int separator_first)
+        : first(first_column), end(end_column), separator_begin(separator_first), size(static_cast<int>(lower.cols()))
+    {
+        cholmod_start(&common);
+        common.nmethods = 1;
+        common.method[0].ordering = CHOLMOD_NATURAL;  // the side comes in its fill-reducing order
+        common.postorder = 0;
+        common.supernodal = CHOLMOD_SUPERNODAL;  // an LL' factor, whose blocks are read below
+        const int* outer = lower.outerIndexPtr();
+        const int* inner = lower.innerIndexPtr();
+        const auto row_of = [&](int r) { return r < end ? r - first : r - separator_begin + own(); };
+        column_starts.reserve(dimension() + 1);
+        column_starts.push_back(0);
+        rows.reserve(outer[end] - outer[first] + outer[size] - outer[separator_begin]);
+        for (int range = 0; range < 2; ++range) {
+            const int from = range == 0 ? first : separator_begin, to = range == 0 ? end : size;
+            for (int j = from; j < to; ++j) {
+                for (int q = outer[j]; q < outer[j + 1]; ++q) rows.push_back(row_of(inner[q]));
+                column_starts.push_back(static_cast<int>(rows.size()));
+            }
+        }
+        cholmod_sparse pattern = matrix(nullptr);
+        pattern.xtype = CHOLMOD_PATTERN;
+        factor = cholmod_analyze(&pattern, &common);
+        if (!factor) {
+            cholmod_finish(&common);
+            throw RuntimeError("fast solver: the Newton matrix's split could not be analysed");
+        }
+    }
+    ~Side()
+    {
+        if (factor) cholmod_free_factor(&factor, &common);
+        cholmod_finish(&common);
+    }
+    Side(const Side&) = delete;
+    Side& operator=(const Side&) = delete;
+
+    cholmod_sparse matrix(double* values)
+    {
+        cholmod_sparse b{};
+        b.nrow = b.ncol = static_cast<std::size_t>(dimension());
+        b.nzmax = rows.size();
+        b.p = column_starts.data();
+        b.i = rows.data();
+        b.x = values;
+        b.stype = -1;
+        b.itype = CHOLMOD_INT;
+        b.xtype = CHOLMOD_REAL;
+        b.dtype = CHOLMOD_DOUBLE;
+        b.sorted = 1;
+        b.packed = 1;
+        return b;
+    }
+
+    /// Factorises B + shift I and computes C C^T into the lower triangle of `product`; false
+    /// when B is not positive definite.
+    bool factorize(const Eigen::SparseMatrix<double>& lower, double shift, Eigen::MatrixXd& product)
+    {
+        const int* outer = lower.outerIndexPtr();
+        std::vector<double> values(rows.size());
+        const std::ptrdiff_t own_entries = outer[end] - outer[first];
+        std::memcpy(values.data(), lower.valuePtr() + outer[first], sizeof(double) * own_entries);
+        std::memcpy(values.data() + own_entries, lower.valuePtr() + outer[separator_begin], sizeof(double) * (outer[size] - outer[separator_begin]));
+        cholmod_sparse b = matrix(values.data());
+        double beta[2] = {shift, 0};
+        if (!cholmod_factorize_p(&b, beta, nullptr, 0, factor, &common) && common.status != CHOLMOD_NOT_POSDEF)
+            throw RuntimeError("fast solver: the Newton matrix's split could not be factorised");
+        if (common.status == CHOLMOD_NOT_POSDEF || factor->minor < factor->n) return false;
+        read_corner();
+        // C C^T by LAPACK's U U^T on the reversed (so upper) C.
+        const int s = separator();
+        product.resize(s, s);
+        for (int c = 0; c < s; ++c)
+            for (int r = c; r < s; ++r) product(s - 1 - r, s - 1 - c) = corner(r, c);
+        int info = 0;
+        dlauum_("U", &s, product.data(), &s, &info, 1);
+        if (info != 0) throw RuntimeError("fast solver: the Newton matrix's separator product failed");
+        return true;
+    }
+
+    /// C from the supernodes holding B's last separator() columns.
+    void read_corner()
+    {
+        const int s = separator(), t0 = own();
+        corner.setZero(s, s);
+        const int* super = static_cast<const int*>(factor->super);
+        const int* pi = static_cast<const int*>(factor->pi);
+        const int* px = static_cast<const int*>(factor->px);
+        const int* supernode_rows = static_cast<const int*>(factor->s);
+        const double* x = static_cast<const double*>(factor->x);
+        for (std::size_t sn = 0; sn < factor->nsuper; ++sn) {
+            const int k1 = super[sn], k2 = super[sn + 1];
+            if (k2 <= t0) continue;
+            const int height = pi[sn + 1] - pi[sn];
+            const int* r = supernode_rows + pi[sn];
+            for (int c = std::max(k1, t0); c < k2; ++c) {
+                const double* column = x + px[sn] + static_cast<std::ptrdiff_t>(c - k1) * height;
+                for (int q = 0; q < height; ++q)
+                    if (r[q] >= c) corner(r[q] - t0, c - t0) = column[q];
+            }
+        }
+    }
+
+    /// L y = rhs or L^T y = rhs (system CHOLMOD_L or CHOLMOD_Lt) in place.
+    void triangular_solve(int system, Eigen::VectorXd& rhs) const
+    {
+        cholmod_dense b{};
+        b.nrow = b.nzmax = b.d = static_cast<std::size_t>(rhs.size());
+        b.ncol = 1;
+        b.x = rhs.data();
+        b.xtype = CHOLMOD_REAL;
+        b.dtype = CHOLMOD_DOUBLE;
+        cholmod_common& c = const_cast<cholmod_common&>(common);  // CHOLMOD's workspace
+        cholmod_dense* y = cholmod_solve(system, factor, &b, &c);
+        if (!y) throw RuntimeError("fast solver: a solve with the Newton matrix's split failed");
+        std::memcpy(rhs.data(), y->x, sizeof(double) * rhs.size());
+        cholmod_free_dense(&y, &c);
+    }
+};
+
+SplitCholesky::SplitCholesky(const Eigen::SparseMatrix<double>& lower, Split split) : size_(static_cast<int>(lower.cols())), split_(split)
+{
+    sides_[0] = std::make_unique<Side>(lower, 0, split.side_end, split.separator_begin);
+    sides_[1] = std::make_unique<Side>(lower, split.side_end, split.separator_begin, split.separator_begin);
+}
+
+SplitCholesky::~SplitCholesky() = default;
+
+bool SplitCholesky::factorize(const Eigen::SparseMatrix<double>& lower, double shift, bool parallel)
+{
+    factorised_ = false;
+    std::array<Eigen::MatrixXd, 2> products;
+    std::array<bool, 2> ok{};
+    for_both_sides(parallel, [&](int g) { ok[g] = sides_[g]->factorize(lower, shift, products[g]); });
+    if (!ok[0] || !ok[1]) return false;
+    // S = C1 C1^T + C2 C2^T - (ATT + shift I), its lower triangle.
+    const int s = size_ - split_.separator_begin, t0 = split_.separator_begin;
+    Eigen::MatrixXd& S = separator_factor_;
+    S.resize(s, s);
+    for (int c = 0; c < s; ++c)
+        for (int r = c; r < s; ++r) S(r, c) = products[0](s - 1 - r, s - 1 - c) + products[1](s - 1 - r, s - 1 - c);
+    products = {};
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    const double* values = lower.valuePtr();
+    for (int c = t0; c < size_; ++c)
+        for (int q = outer[c]; q < outer[c + 1]; ++q) S(inner[q] - t0, c - t0) -= values[q];
+    for (int c = 0; c < s; ++c) S(c, c) -= shift;
+    int info = 0;
+    dpotrf_("L", &s, S.data(), &s, &info, 1);
+    if (info < 0) throw RuntimeError("fast solver: the Newton matrix's separator could not be factorised");
+    factorised_ = info == 0;
+    return factorised_;
+}
+
+Eigen::VectorXd SplitCholesky::solve(const Eigen::VectorXd& b, bool parallel) const
+{
+    if (!factorised_) throw RuntimeError("fast solver: a solve with no factorisation");
+    const int s = size_ - split_.separator_begin, t0 = split_.separator_begin;
+    // Forward: [w; z] = L_g^-1 [b_g; 0], so that LTg w = -C z.
+    std::array<Eigen::VectorXd, 2> y, coupling;
+    for_both_sides(parallel, [&](int g) {
+        const Side& side = *sides_[g];
+        y[g].setZero(side.dimension());
+        y[g].head(side.own()) = b.segment(side.first, side.own());
+        side.triangular_solve(CHOLMOD_L, y[g]);
+        coupling[g] = side.corner.triangularView<Eigen::Lower>() * y[g].tail(s);
+    });
+    Eigen::VectorXd separator = b.tail(s) + coupling[0] + coupling[1];
+    const auto factor = separator_factor_.triangularView<Eigen::Lower>();
+    factor.solveInPlace(separator);
+    factor.transpose().solveInPlace(separator);
+    // Backward: L_g^T [x_g; x_T] = [w; C^T x_T].
+    Eigen::VectorXd x(size_);
+    for_both_sides(parallel, [&](int g) {
+        const Side& side = *sides_[g];
+        y[g].tail(s) = side.corner.triangularView<Eigen::Lower>().transpose() * separator;
+        side.triangular_solve(CHOLMOD_Lt, y[g]);
+        x.segment(side.first, side.own()) = y[g].head(side.own());
+    });
+    x.segment(t0, s) = separator;
+    return x;
+}
+
+}  // namespace woven::sim
