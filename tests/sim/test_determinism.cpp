@@ -1,7 +1,8 @@
 // Determinism, pinned (box2d's test/test_determinism.c): the final positions and step count of
-// small drapes hash to recorded values, the fast solver's at 1, 2 and 4 threads (every thread
-// count gives the same bits: nothing in the model or the solver depends on the thread count, and
-// the factorisation's BLAS runs on one thread, linear_solver.cpp) and the paper solver's at a
+// small drapes hash to recorded values, the fast solver's at 1, 2 and 4 threads (on a small grid
+// every thread count gives the same bits: the model's threads sum in the stencils' order, and
+// the factorisation's BLAS runs on one thread, linear_solver.cpp; a large grid's factorisation
+// is split on two threads or more, the same bits from two up) and the paper solver's at a
 // fixed seed. Also the seeded perturbation of the fast solver's start.
 //
 // The hashes change whenever the physics or the discretisation does on purpose (a new mass
@@ -76,6 +77,33 @@ TEST(Determinism, FastSolverCubeDrapeIsPinnedAtOneTwoAndFourThreads)
         EXPECT_EQ(hex(drape_hash(r)), hex(kFastCube)) << threads << " threads, " << r.steps << " steps, " << r.iterations
                                                         << " Newton iterations; got " << hex(drape_hash(r)) << ": " << kHowToUpdate;
     }
+}
+
+// A 41 x 41 cloth, large enough that two threads or more factorise the two sides of its top
+// separator at once (sim/split_cholesky.hpp): the same bits at 2 and 4 threads and on a second
+// run; one thread factorises it whole, so its drape differs from theirs by round-off only.
+TEST(Determinism, SplitFactorisationGivesTheSameBitsAtTwoAndFourThreads)
+{
+    const model::Grid grid = test::square_grid(41, 1.0);
+    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), grid, {});
+    const geometry::ObstacleSet obstacles = floor_and_cube();
+    const sim::Problem problem{&m, &obstacles, model::flat_grid(grid, Vec3(0.05, 0.02, 0.51), 0.3), {}};
+    const auto run = [&](int threads) {
+        sim::SolverOptions o;
+        o.threads = threads;
+        o.max_steps = 3;
+        return sim::drape(problem, o);
+    };
+    const sim::Result two = run(2), four = run(4), again = run(2), one = run(1);
+    EXPECT_EQ(hex(drape_hash(two)), hex(drape_hash(four)));
+    EXPECT_EQ(hex(drape_hash(two)), hex(drape_hash(again)));
+    ASSERT_EQ(one.steps, two.steps);
+    // The split ran: its round-off is not the whole factorisation's.
+    EXPECT_NE(hex(drape_hash(one)), hex(drape_hash(two)));
+    double largest = 0;
+    for (int p = 0; p < grid.size(); ++p) largest = std::max(largest, (one.x[p] - two.x[p]).norm());
+    EXPECT_LT(largest, 1e-9) << "m";
+    EXPECT_NEAR(one.energy.total(), two.energy.total(), 1e-12 * std::abs(one.energy.total()));
 }
 
 // The paper solver: a 7 x 7 cloth of 0.3 m falling on a sphere, 60 steps, seed 7.

@@ -2,6 +2,8 @@
 
 #include <random>
 
+#include <tbb/global_control.h>
+
 #include "woven/sim/linear_solver.hpp"
 
 namespace {
@@ -139,3 +141,32 @@ TEST(NewtonLinearSolver, NearlySingularMatrixIsShiftedNotRejected)
     ASSERT_TRUE(x.allFinite());
     EXPECT_LT((A * x - b).norm(), 1e-3 * b.norm());
 }
+
+TEST(NewtonLinearSolver, SplitsALargeFactorisationOnTwoThreadsOnly)
+{
+    // A 70 x 70 grid (4900 unknowns) in a nested-dissection order: two sides of about 2400.
+    const Eigen::SparseMatrix<double> grid = grid_matrix(70, 0.01);
+    Eigen::SparseMatrix<double> lower;
+    {
+        const Eigen::SparseMatrix<double> tri = grid.triangularView<Eigen::Lower>();
+        const std::vector<int> starts(tri.outerIndexPtr(), tri.outerIndexPtr() + tri.outerSize() + 1);
+        const std::vector<int> rows(tri.innerIndexPtr(), tri.innerIndexPtr() + tri.nonZeros());
+        const std::vector<int> order = woven::sim::fill_reducing_order(static_cast<int>(grid.rows()), starts, rows);
+        Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> P(static_cast<int>(order.size()));
+        for (int k = 0; k < static_cast<int>(order.size()); ++k) P.indices()[order[k]] = k;
+        Eigen::SparseMatrix<double> permuted;
+        permuted = grid.selfadjointView<Eigen::Lower>().twistedBy(P);
+        lower = permuted.triangularView<Eigen::Lower>();
+    }
+    const Eigen::VectorXd b = random_vector(4900);
+    const Eigen::SparseMatrix<double> full = lower.selfadjointView<Eigen::Lower>();
+    for (int threads : {1, 2}) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        woven::sim::NewtonLinearSolver solver;
+        Eigen::VectorXd x;
+        solver.solve(lower, b, x);
+        EXPECT_EQ(solver.split_factorization(), threads == 2) << threads << " threads";
+        EXPECT_LT((full * x - b).norm(), 1e-10 * b.norm()) << threads << " threads";
+    }
+}
+

@@ -167,8 +167,8 @@ inline constexpr std::ptrdiff_t kParallelStencils = 128;
 
 /// Sums one term over its stencils, each times its weight (stencils.hpp), and sends the local
 /// derivatives to the sink. The local terms of a batch of stencils are evaluated on oneTBB's
-/// threads; the sums and the sink see them in the stencils' order, so the bits do not depend
-/// on the thread count.
+/// threads; the sums and the sink see them in the stencils' order (a PartitionedSink in
+/// parts at once, each its own values), so the bits do not depend on the thread count.
 template <class T, class Sink>
 double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>>& stencils, const std::vector<double>& weights, const Positions& x, Derivatives what, Sink& sink)
 {
@@ -189,12 +189,22 @@ double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>
         else
             tbb::parallel_for(tbb::blocked_range<std::ptrdiff_t>(0, count, (count + 1) / 2),
                               [&](const tbb::blocked_range<std::ptrdiff_t>& r) { evaluate(r.begin(), r.end()); }, tbb::simple_partitioner());
-        for (std::ptrdiff_t k = 0; k < count; ++k) {
-            const Local<N>& l = locals[k];
-            sum += l.value;
-            if (what != Derivatives::NONE && !l.vanishes && std::isfinite(l.value))
-                sink.template add<N>(id, stencils[begin + static_cast<std::size_t>(k)], l, what != Derivatives::GRADIENT);
+        for (std::ptrdiff_t k = 0; k < count; ++k) sum += locals[k].value;
+        if (what == Derivatives::NONE) continue;
+        const bool with_hessian = what != Derivatives::GRADIENT;
+        const auto scatter = [&](auto... part) {
+            for (std::ptrdiff_t k = 0; k < count; ++k) {
+                const Local<N>& l = locals[k];
+                if (!l.vanishes && std::isfinite(l.value)) sink.template add<N>(id, stencils[begin + static_cast<std::size_t>(k)], l, with_hessian, part...);
+            }
+        };
+        if constexpr (PartitionedSink<Sink>) {
+            if (sink.parts() > 1 && count >= kParallelStencils) {
+                tbb::parallel_for(0, sink.parts(), [&](int part) { scatter(part); });
+                continue;
+            }
         }
+        scatter();
     }
     return sum;
 }

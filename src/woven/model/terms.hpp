@@ -9,6 +9,7 @@
 // past 1.05 rad, a thread folded to theta = 0, two particles at the same place): then no
 // derivatives are computed and the caller must reject the configuration.
 #include <cmath>
+#include <concepts>
 
 #include "woven/common/types.hpp"
 #include "woven/model/energy_functions.hpp"
@@ -196,6 +197,15 @@ inline void scale_local(ParticleLocal& l, double w)
 /// The concept of a sink for ClothModel::evaluate: `add<N>(term, ids, local, with_hessian)`.
 template <class S>
 concept LocalSink = requires(S& s, const Stencil<2>& ids, const Local<2>& l) { s.template add<2>(Term::STRETCH, ids, l, true); };
+
+/// A sink whose adds can be split into parts() parts run at once: add<N>(..., part) adds only
+/// what part `part` owns, each value owned by one part, so that every value receives its
+/// stencils' contributions in their order whatever the number of parts.
+template <class S>
+concept PartitionedSink = LocalSink<S> && requires(S& s, const Stencil<2>& ids, const Local<2>& l) {
+    { s.parts() } -> std::convertible_to<int>;
+    s.template add<2>(Term::STRETCH, ids, l, true, 0);
+};
 
 /// Adds a stencil's local gradient into a global 3n vector (particle p at 3p).
 template <int N> void add_local_gradient(const Stencil<N>& ids, const VecN<3 * N>& local, Eigen::VectorXd& global)

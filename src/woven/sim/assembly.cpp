@@ -4,6 +4,8 @@
 #include <cassert>
 #include <limits>
 
+#include <tbb/global_control.h>
+
 #include "woven/common/error.hpp"
 #include "woven/sim/linear_solver.hpp"
 
@@ -100,6 +102,12 @@ void SparseAssembly::build(const model::Stencils& stencils, const std::vector<mo
     for (int slot = 0; slot < nonzeros; ++slot) entry_slot[slot_entry[slot]] = slot;
     std::fill(matrix_.valuePtr(), matrix_.valuePtr() + nonzeros, 0.0);
     gradient_ = Eigen::VectorXd::Zero(size);
+
+    // Owners for the parallel adds: the parts' ranges of the matrix's order (so each part
+    // writes mostly its own columns' values).
+    parts_ = static_cast<int>(std::clamp<std::size_t>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism), 1, 4));
+    owner_.assign(n, 0);
+    for (int p = 0; p < n; ++p) owner_[p] = static_cast<char>(static_cast<long long>(rank[3 * p]) * parts_ / size);
 
     // Lower block (p, q): the slot of each entry (3p + a, 3q + b) on or below H's diagonal.
     positions_.resize(lower_[n]);

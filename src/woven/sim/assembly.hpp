@@ -34,8 +34,12 @@ public:
     void repattern(const model::Stencils& stencils, const std::vector<model::Stencil<2>>& extra_pairs);
     /// Zeroes gradient and matrix values.
     void clear();
-    /// Adds one stencil's local gradient and (with_hessian) Hessian.
-    template <int N> void add(model::Term, const model::Stencil<N>& ids, const model::Local<N>& local, bool with_hessian);
+    /// Adds one stencil's local gradient and (with_hessian) Hessian; with `part` >= 0 only the
+    /// values that part owns (model::PartitionedSink): the gradient of the particles and the
+    /// Hessian blocks of the columns of its range of the matrix's order.
+    template <int N> void add(model::Term, const model::Stencil<N>& ids, const model::Local<N>& local, bool with_hessian, int part = -1);
+    /// Parts the adds are split into, one per oneTBB thread allowed at construction (at most 4).
+    int parts() const { return parts_; }
     /// Adds a 3x3 block on the diagonal and a gradient for particle p (inertia, contact).
     void add_particle(int p, const Mat3& hessian, const Vec3& gradient);
     /// Applies the pinned rows (identity, zero gradient); call after all adds.
@@ -68,16 +72,19 @@ private:
     /// including p, its lower blocks, have their value positions at positions_[lower_[p] ...].
     std::vector<int> row_, partners_, lower_;
     std::vector<std::array<int, 9>> positions_;
+    int parts_ = 1;
+    /// The part owning particle p's gradient and the Hessian blocks (p', p), p' >= p.
+    std::vector<char> owner_;
 };
 
-template <int N> void SparseAssembly::add(model::Term, const model::Stencil<N>& ids, const model::Local<N>& local, bool with_hessian)
+template <int N> void SparseAssembly::add(model::Term, const model::Stencil<N>& ids, const model::Local<N>& local, bool with_hessian, int part)
 {
     for (int k = 0; k < N; ++k)
-        if (!pinned_[ids[k]]) gradient_.segment<3>(3 * ids[k]) += local.gradient.template segment<3>(3 * k);
+        if (!pinned_[ids[k]] && (part < 0 || owner_[ids[k]] == part)) gradient_.segment<3>(3 * ids[k]) += local.gradient.template segment<3>(3 * k);
     if (!with_hessian) return;
     double* values = matrix_.valuePtr();
     for (int kq = 0; kq < N; ++kq) {
-        if (pinned_[ids[kq]]) continue;
+        if (pinned_[ids[kq]] || (part >= 0 && owner_[ids[kq]] != part)) continue;
         for (int kp = 0; kp < N; ++kp) {
             if (pinned_[ids[kp]] || ids[kp] < ids[kq]) continue;  // above the diagonal: its mirror is assembled
             const std::array<int, 9>* pos = lower_block(ids[kp], ids[kq]);

@@ -108,7 +108,7 @@ struct SolverOptions {
     double contact_distance = 1e-3;    ///< barrier activation distance d^ (m)
     double viscosity = 2.0;            ///< paper solver: drag coefficient of the viscous medium (1/s)
     double friction = 0.0;             ///< fast solver: Coulomb friction coefficient cloth-obstacle (0: none, as the paper)
-    int threads = 0;                   ///< OpenMP threads during the drape; 0: leave the count as it is (all cores); restored on return
+    int threads = 0;                   ///< oneTBB and OpenMP threads during the drape; 0: leave the count as it is (all cores); restored on return
     /// Fast solver: amplitude (m) of a seeded perturbation of the start, each coordinate of each
     /// free particle moved by up to this (uniform, from `seed`), so that the start is never
     /// exactly symmetric (the paper's stochastic solver never drapes the same twice); 0 keeps
@@ -179,9 +179,12 @@ struct Result {
 };
 
 /// Runs the chosen solver to equilibrium (or max_steps, or until a callback says stop). With
-/// options.threads > 0, OpenMP runs on that many threads during the call; the BLAS on one
-/// (the factorisations' bits must not depend on the thread count); the process-wide counts
-/// are restored on return. Nothing in the solvers is threaded yet (bench/NOTES.md).
+/// options.threads > 0, oneTBB and OpenMP run on that many threads during the call; the BLAS on
+/// one; the process-wide counts are restored on return. Threads evaluate the model's local
+/// terms (the same bits on any count) and, from two threads on a large grid, factorise the two
+/// sides of the Newton matrix's top separator at once (sim/split_cholesky.hpp): its round-off
+/// is not the whole factorisation's, so one thread and two drape the same path to round-off,
+/// and every count from two up gives the same bits.
 Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress = {},
              const IterationCallback& iteration = {});
 

@@ -58,6 +58,10 @@ public:
     void set_tolerance(double relative_tolerance) { options_.relative_tolerance = relative_tolerance; }
 
     int factorizations() const { return factorizations_; }
+    /// Whether the factorisation in use is split at its top separator, its two sides
+    /// factorised at once (with oneTBB allowing two threads or more and a large matrix:
+    /// sim/split_cholesky.hpp), rather than factorised whole.
+    bool split_factorization() const;
     int cg_iterations() const { return cg_iterations_; }
 
 private:
