@@ -9,6 +9,7 @@
 
 #include <Eigen/CholmodSupport>
 #include <omp.h>
+#include <tbb/global_control.h>
 #include <benchmark/benchmark.h>
 
 #include "sim/sim_fixtures.hpp"
@@ -23,6 +24,13 @@
 namespace {
 
 using namespace woven;
+
+/// oneTBB limited to `threads` for a benchmark's lifetime: the model's local terms run on
+/// oneTBB's threads, and these benchmarks measure one (the split ones their argument).
+struct TbbThreads {
+    explicit TbbThreads(int threads) : limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads)) {}
+    tbb::global_control limit;
+};
 
 /// The paper's 1 m cloth on an n x n grid, flat at 0.5 m with a 5 % sigma jitter (so that every
 /// term, repulsion included, is active).
@@ -59,6 +67,7 @@ void per_particle(benchmark::State& state, int particles)
 
 void energy(benchmark::State& state)
 {
+    const TbbThreads one(1);
     const Setup s(static_cast<int>(state.range(0)));
     for (auto _ : state) benchmark::DoNotOptimize(s.model.energy(s.x));
     per_particle(state, s.grid.size());
@@ -66,6 +75,7 @@ void energy(benchmark::State& state)
 
 void gradient(benchmark::State& state)
 {
+    const TbbThreads one(1);
     const Setup s(static_cast<int>(state.range(0)));
     for (auto _ : state) benchmark::DoNotOptimize(s.model.gradient(s.x));
     per_particle(state, s.grid.size());
@@ -73,6 +83,7 @@ void gradient(benchmark::State& state)
 
 void projected_hessian_assembly(benchmark::State& state)
 {
+    const TbbThreads one(1);
     const Setup s(static_cast<int>(state.range(0)));
     sim::SparseAssembly system(s.model.stencils(), std::vector<char>(s.grid.size(), 0));
     for (auto _ : state) {
@@ -85,6 +96,7 @@ void projected_hessian_assembly(benchmark::State& state)
 
 void close_pairs(benchmark::State& state)
 {
+    const TbbThreads one(1);
     const Setup s(static_cast<int>(state.range(0)));
     for (auto _ : state) benchmark::DoNotOptimize(s.model.close_pairs(s.x));
     per_particle(state, s.grid.size());
@@ -94,6 +106,7 @@ void close_pairs(benchmark::State& state)
 /// nested-dissection order is the assembly's, made once per pattern).
 void newton_solve_factorise(benchmark::State& state)
 {
+    const TbbThreads one(1);
     const Setup s(static_cast<int>(state.range(0)));
     const sim::SparseAssembly system = s.newton_system();
     Eigen::VectorXd rhs = Eigen::VectorXd::Ones(system.matrix().rows()), d;
@@ -111,6 +124,7 @@ void newton_solve_factorise(benchmark::State& state)
 /// (assembly.hpp, linear_solver.cpp).
 void newton_refactorise(benchmark::State& state)
 {
+    const TbbThreads one(1);
     const Setup s(static_cast<int>(state.range(0)));
     const sim::SparseAssembly system = s.newton_system();
     const Eigen::SparseMatrix<double>& lower = system.matrix();
@@ -139,6 +153,7 @@ void newton_refactorise(benchmark::State& state)
 /// against newton_refactorise, the separator's dense work and the threads' gain.
 void newton_refactorise_split(benchmark::State& state)
 {
+    const TbbThreads threads(static_cast<int>(state.range(1)));
     const Setup s(static_cast<int>(state.range(0)));
     const bool parallel = state.range(1) == 2;
     const sim::SparseAssembly system = s.newton_system();
@@ -162,6 +177,7 @@ void newton_refactorise_split(benchmark::State& state)
 /// A solve with the split factor (one CG iteration's preconditioner), on `arg 1` threads.
 void newton_solve_split(benchmark::State& state)
 {
+    const TbbThreads threads(static_cast<int>(state.range(1)));
     const Setup s(static_cast<int>(state.range(0)));
     const bool parallel = state.range(1) == 2;
     const sim::SparseAssembly system = s.newton_system();
@@ -182,6 +198,7 @@ void newton_solve_split(benchmark::State& state)
 /// by the factor of a nearby matrix; here the same matrix).
 void newton_solve_reuse(benchmark::State& state)
 {
+    const TbbThreads one(1);
     const Setup s(static_cast<int>(state.range(0)));
     const sim::SparseAssembly system = s.newton_system();
     Eigen::VectorXd rhs = Eigen::VectorXd::Ones(system.matrix().rows()), d;
@@ -198,6 +215,7 @@ void newton_solve_reuse(benchmark::State& state)
 /// spread over the chair's bounding box.
 void mesh_obstacle_closest(benchmark::State& state)
 {
+    const TbbThreads one(1);
     const int n = static_cast<int>(state.range(0));
     std::string_view obj;
     for (const EmbeddedFile& f : io::data::embedded_files())

@@ -26,7 +26,7 @@ load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 if [[ -n "${BENCH_FROM_RUNS:-}" ]]; then
   "$build/bench/drape_bench" --from-runs "$BENCH_FROM_RUNS" --out "$out" --reference-energy "${BENCH_REFERENCE_ENERGY:-0.4760152008957594}" > /dev/null
 else
-  # Micro benchmarks, one thread (OpenMP and BLAS).
+  # Micro benchmarks, one thread (OpenMP and BLAS; oneTBB in each benchmark, the split ones their second argument).
   OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 "$build/bench/bench_model" --benchmark_min_time=0.3 > "$out/micro.txt" 2>&1
   bullet=()
   [[ -x "$build/bench/peers/bullet_drape" ]] && bullet=(--bullet "$build/bench/peers/bullet_drape")
@@ -68,7 +68,7 @@ load_after=$(cut -d' ' -f1-3 /proc/loadavg)
   echo
   echo "![time against particle count, log-log](time_vs_particles.png)"
   echo
-  echo "## Micro benchmarks (bench/bench_model.cpp, one thread, OpenMP and BLAS; argument = grid side n)"
+  echo "## Micro benchmarks (bench/bench_model.cpp, one thread, OpenMP, oneTBB and BLAS; argument = grid side n, the split ones' second argument their threads)"
   echo
   echo '```'
   grep -E '^(Benchmark|---|[a-z_]+/)' "$out/micro.txt"

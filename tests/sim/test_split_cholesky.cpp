@@ -117,6 +117,30 @@ TEST(SplitCholesky, SolvesAsAnIndependentLdlt)
     EXPECT_LE((factor.solve(b, false) - expected).norm(), 1e-10 * expected.norm());
 }
 
+TEST(SplitCholesky, KeepsDecoupledUnknownsAfterTheClothInTheSeparator)
+{
+    // Pinned particles' unknowns couple to nothing: trees of their own in the elimination
+    // forest. Six of them after the cloth's unknowns join the separator; the sides stay.
+    const Eigen::SparseMatrix<double> cloth = newton_matrix(25);
+    const int n = static_cast<int>(cloth.cols()), extra = 6;
+    std::vector<Eigen::Triplet<double>> t;
+    for (int j = 0; j < n; ++j)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(cloth, j); it; ++it) t.emplace_back(it.row(), j, it.value());
+    for (int k = 0; k < extra; ++k) t.emplace_back(n + k, n + k, 1.0);
+    Eigen::SparseMatrix<double> A(n + extra, n + extra);
+    A.setFromTriplets(t.begin(), t.end());
+    const auto split = sim::SplitCholesky::find(A, 200, 1000);
+    ASSERT_TRUE(split.has_value());
+    EXPECT_EQ(split->side_end, sim::SplitCholesky::find(cloth, 200, 1000)->side_end);
+    EXPECT_EQ(n + extra - split->separator_begin, n - sim::SplitCholesky::find(cloth, 200, 1000)->separator_begin + extra);
+    sim::SplitCholesky factor(A, *split);
+    ASSERT_TRUE(factor.factorize(A, 0, true));
+    const Eigen::SparseMatrix<double> H = full(A);
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> reference(H);
+    const Eigen::VectorXd b = random_vector(n + extra, 6), expected = reference.solve(b);
+    EXPECT_LE((factor.solve(b, true) - expected).norm(), 1e-10 * expected.norm());
+}
+
 TEST(SplitCholesky, TwoThreadsGiveTheBitsOfOne)
 {
     const Eigen::SparseMatrix<double> A = newton_matrix(31);

@@ -36,6 +36,7 @@ struct NewtonLinearSolver::Factor {
         llt.cholmod().nmethods = 1;
         llt.cholmod().method[0].ordering = CHOLMOD_NATURAL;
         llt.cholmod().postorder = 0;  // the order is postordered already
+        llt.cholmod().print = 0;      // a failure is handled (a shift), not printed to stdout
     }
     Eigen::VectorXd solve(const Eigen::VectorXd& b) const
     {

@@ -7,7 +7,8 @@
 // poor model of the energy's soft modes (the projected terms drop their negative parts): there
 // the same factor preconditions CG on the exact Hessian instead (truncated Newton-CG), which
 // stops at the first direction of negative curvature (Steihaug), so the step stays a descent
-// direction.
+// direction. With two threads or more a large matrix is factorised in two halves at once, split
+// at the top separator of its nested-dissection tree (split_cholesky.hpp).
 #include <functional>
 #include <memory>
 #include <vector>

@@ -84,12 +84,19 @@ std::optional<SplitCholesky::Split> SplitCholesky::find(const Eigen::SparseMatri
     const int n = static_cast<int>(lower.cols());
     if (n != lower.rows() || n < 2 * min_side + 1 || !lower.isCompressed()) return std::nullopt;
     const std::vector<int> parent = elimination_tree(lower);
-    if (parent[n - 1] != -1) return std::nullopt;
-    std::vector<int> children(n, 0);
+    std::vector<int> children(n, 0), descendants(n, 1);
     for (int j = 0; j < n; ++j)
-        if (parent[j] >= 0) ++children[parent[j]];
-    // The separator: the chain from the root down to the first node with other than one child.
-    int separator_begin = n - 1;
+        if (parent[j] >= 0) {
+            ++children[parent[j]];
+            descendants[parent[j]] += descendants[j];
+        }
+    // The main tree's root (pinned unknowns, decoupled, are trees of their own). The separator:
+    // the chain from it down to the first node with other than one child, and the (small)
+    // trees after it, which couple to nothing before.
+    int root = -1;
+    for (int j = 0; j < n; ++j)
+        if (parent[j] < 0 && (root < 0 || descendants[j] > descendants[root])) root = j;
+    int separator_begin = root;
     while (separator_begin > 0 && children[separator_begin] == 1 && parent[separator_begin - 1] == separator_begin) --separator_begin;
     if (n - separator_begin > max_separator) return std::nullopt;
     // The sides: a cut m between whole subtrees (no column before it has its parent in
@@ -132,6 +139,7 @@ struct SplitCholesky::Side {
         common.method[0].ordering = CHOLMOD_NATURAL;  // the side comes in its fill-reducing order
         common.postorder = 0;
         common.supernodal = CHOLMOD_SUPERNODAL;  // an LL' factor, whose blocks are read below
+        common.print = 0;                        // a failure is returned, not printed to stdout
         const int* outer = lower.outerIndexPtr();
         const int* inner = lower.innerIndexPtr();
         const auto row_of = [&](int r) { return r < end ? r - first : r - separator_begin + own(); };

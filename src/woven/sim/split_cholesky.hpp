@@ -26,9 +26,10 @@ public:
     struct Split {
         int side_end = 0, separator_begin = 0;
     };
-    /// The split of a matrix given by its lower triangle (compressed columns, rows ascending),
-    /// or nullopt when its elimination tree has no chain of at most max_separator columns at
-    /// its root above two independent sides of at least min_side columns each.
+    /// The split of a matrix given by its lower triangle (compressed columns, rows ascending,
+    /// in a postordered fill-reducing order), or nullopt when its elimination tree has no chain
+    /// at its largest tree's root (with the trees after it: at most max_separator columns)
+    /// above two independent sides of at least min_side columns each.
     static std::optional<Split> find(const Eigen::SparseMatrix<double>& lower, int min_side, int max_separator);
 
     /// Analyses the pattern of `lower` for the split (both sides' symbolic factorisations).
