@@ -4,6 +4,7 @@
 // alone, and a solve reusing the factor), and
 // an obstacle query on a triangle mesh (the chair). Times per call; "per particle" counters
 // divide by n^2. Run: make bench, or build/bench/bench_model --benchmark_filter=...
+#include <memory>
 #include <random>
 #include <string>
 
@@ -148,50 +149,54 @@ void newton_refactorise(benchmark::State& state)
     state.counters["matrix_nonzeros"] = static_cast<double>(lower.nonZeros());
 }
 
+/// The Newton matrix of an n x n grid (arg 0) and its split factor, or nullptr (the benchmark
+/// skipped) when it does not split.
+struct SplitSetup {
+    Setup setup;
+    sim::SparseAssembly system;
+    std::unique_ptr<sim::SplitCholesky> factor;
+    explicit SplitSetup(benchmark::State& state) : setup(static_cast<int>(state.range(0))), system(setup.newton_system())
+    {
+        const auto split = sim::SplitCholesky::find(system.matrix(), 1000, 4096);
+        if (split)
+            factor = std::make_unique<sim::SplitCholesky>(system.matrix(), *split);
+        else
+            state.SkipWithError("no split");
+    }
+};
+
 /// The same numeric factorisation split at the top separator (sim/split_cholesky.hpp), its two
 /// sides on two threads (as the drape factorises with two threads or more), or on one (arg 1):
 /// against newton_refactorise, the separator's dense work and the threads' gain.
 void newton_refactorise_split(benchmark::State& state)
 {
     const TbbThreads threads(static_cast<int>(state.range(1)));
-    const Setup s(static_cast<int>(state.range(0)));
+    const SplitSetup s(state);
+    if (!s.factor) return;
     const bool parallel = state.range(1) == 2;
-    const sim::SparseAssembly system = s.newton_system();
-    const Eigen::SparseMatrix<double>& lower = system.matrix();
-    const auto split = sim::SplitCholesky::find(lower, 1000, 4096);
-    if (!split) {
-        state.SkipWithError("no split");
-        return;
-    }
-    sim::SplitCholesky factor(lower, *split);
+    const Eigen::SparseMatrix<double>& lower = s.system.matrix();
     const int levels = omp_get_max_active_levels();
     omp_set_max_active_levels(0);
     for (auto _ : state)
-        if (!factor.factorize(lower, 0, parallel)) state.SkipWithError("not positive definite");
+        if (!s.factor->factorize(lower, 0, parallel)) state.SkipWithError("not positive definite");
     omp_set_max_active_levels(levels);
-    per_particle(state, s.grid.size());
-    state.counters["separator"] = static_cast<double>(lower.cols() - split->separator_begin);
-    state.counters["sides"] = static_cast<double>(split->side_end) / split->separator_begin;
+    per_particle(state, s.setup.grid.size());
+    const sim::SplitCholesky::Split& split = s.factor->split();
+    state.counters["separator"] = static_cast<double>(lower.cols() - split.separator_begin);
+    state.counters["sides"] = static_cast<double>(split.side_end) / split.separator_begin;
 }
 
 /// A solve with the split factor (one CG iteration's preconditioner), on `arg 1` threads.
 void newton_solve_split(benchmark::State& state)
 {
     const TbbThreads threads(static_cast<int>(state.range(1)));
-    const Setup s(static_cast<int>(state.range(0)));
+    const SplitSetup s(state);
+    if (!s.factor) return;
     const bool parallel = state.range(1) == 2;
-    const sim::SparseAssembly system = s.newton_system();
-    const Eigen::SparseMatrix<double>& lower = system.matrix();
-    const auto split = sim::SplitCholesky::find(lower, 1000, 4096);
-    if (!split) {
-        state.SkipWithError("no split");
-        return;
-    }
-    sim::SplitCholesky factor(lower, *split);
-    const Eigen::VectorXd rhs = Eigen::VectorXd::Ones(lower.rows());
-    if (!factor.factorize(lower, 0, parallel)) state.SkipWithError("not positive definite");
-    for (auto _ : state) benchmark::DoNotOptimize(factor.solve(rhs, parallel).data());
-    per_particle(state, s.grid.size());
+    const Eigen::VectorXd rhs = Eigen::VectorXd::Ones(s.system.matrix().rows());
+    if (!s.factor->factorize(s.system.matrix(), 0, parallel)) state.SkipWithError("not positive definite");
+    for (auto _ : state) benchmark::DoNotOptimize(s.factor->solve(rhs, parallel).data());
+    per_particle(state, s.setup.grid.size());
 }
 
 /// One Newton linear solve reusing the last factorisation (the common case: CG preconditioned
