@@ -95,6 +95,7 @@ TEST(SplitCholesky, SolvesAsAnIndependentLdlt)
     ASSERT_TRUE(split.has_value());
     sim::SplitCholesky factor(A, *split);
     ASSERT_TRUE(factor.factorize(A, 0, false));
+    EXPECT_EQ(factor.corners_in_place(), 2);  // the separator is each side's last supernode
     const Eigen::SparseMatrix<double> H = full(A);
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> reference(H);
     ASSERT_EQ(reference.info(), Eigen::Success);
@@ -135,6 +136,7 @@ TEST(SplitCholesky, KeepsDecoupledUnknownsAfterTheClothInTheSeparator)
     EXPECT_EQ(n + extra - split->separator_begin, n - sim::SplitCholesky::find(cloth, 200, 1000)->separator_begin + extra);
     sim::SplitCholesky factor(A, *split);
     ASSERT_TRUE(factor.factorize(A, 0, true));
+    EXPECT_LT(factor.corners_in_place(), 2);  // the decoupled unknowns are supernodes of their own: copied
     const Eigen::SparseMatrix<double> H = full(A);
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> reference(H);
     const Eigen::VectorXd b = random_vector(n + extra, 6), expected = reference.solve(b);

@@ -45,6 +45,9 @@ public:
     Eigen::VectorXd solve(const Eigen::VectorXd& b, bool parallel) const;
 
     int size() const { return size_; }
+    /// How many of the two sides' corners C_g the last factorisation read in place from their
+    /// factors (the others were copied: a separator over several supernodes).
+    int corners_in_place() const;
     const Split& split() const { return split_; }
 
 private:
