@@ -226,7 +226,7 @@ struct SplitCholesky::Side {
     }
 
     /// Points corner_data at C: in place when B's last supernode holds the whole separator
-    /// (rows below its diagonal block none), else a copy from the supernodes that hold it.
+    /// (and no rows below its diagonal block), else a copy from the supernodes that hold it.
     void find_corner()
     {
         const int s = separator(), t0 = own();
