@@ -375,7 +375,7 @@ int main(int argc, char** argv)
         return median(v);
     };
     std::ostringstream md;
-    md << "| tool | solver | grid | particles | threads | runs | time (s, median) | CPU (s) | peak RSS (MB) | steps | Newton its | "
+    md << "| tool | solver | grid | particles | threads | runs | time (s, median) | CPU (s) | peak RSS (MiB) | steps | Newton its | "
           "factorisations | CG its | converged | energy (J) | residual (m g) | load avg |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& [c, rs] : by_case) {
