@@ -49,7 +49,7 @@ struct NewtonLinearSolver::Factor {
     /// With two threads or more and a large matrix: both sides of its top separator at once,
     /// in place of llt.
     std::unique_ptr<SplitCholesky> split;
-    /// The structure last analysed (H's column starts and row indices; values are not kept).
+    /// The structure last analysed for llt (H's column starts and row indices; values are not kept).
     std::vector<int> outer, inner;
     bool analysed = false;
     int threads = 1;  ///< oneTBB's thread count at the analysis
@@ -151,16 +151,22 @@ void NewtonLinearSolver::factorize(const Eigen::SparseMatrix<double>& matrix)
     // ignores the entries above the diagonal, so no triangle is copied (at 201 x 201 a copy
     // and the kept pattern were 2 x 28 MB, and the copy 1.5 % of the 51 x 51 drape's time).
     const int threads = static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    if (!f.analysed || threads != f.threads || !same_structure(H, f.outer, f.inner)) {
+    const bool same = f.analysed && threads == f.threads && (f.split ? f.split->analysed_for(H) : same_structure(H, f.outer, f.inner));
+    if (!same) {
         f.split.reset();
         std::optional<SplitCholesky::Split> split;
         if (threads >= 2) split = SplitCholesky::find(H, kMinSplitSide, kMaxSplitSeparator);
-        if (split)
+        // The split checks a pattern against its own index arrays; the whole factor keeps a
+        // copy of it (9.6 MB at 201 x 201).
+        if (split) {
             f.split = std::make_unique<SplitCholesky>(H, *split);
-        else
+            std::vector<int>().swap(f.outer);
+            std::vector<int>().swap(f.inner);
+        } else {
             f.llt.analyzePattern(H);
-        f.outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
-        f.inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
+            f.outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
+            f.inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
+        }
         f.analysed = true;
         f.threads = threads;
     }

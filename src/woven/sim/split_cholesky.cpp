@@ -4,6 +4,10 @@
 #include <cstddef>
 #include <cstring>
 #include <exception>
+#include <new>
+#include <utility>
+
+#include <sys/mman.h>
 
 #include <cholmod.h>
 #include <omp.h>
@@ -47,6 +51,31 @@ void for_both_sides(bool parallel, const F& f)
     for (const std::exception_ptr& e : errors)
         if (e) std::rethrow_exception(e);
 }
+
+/// An int array in anonymous pages of its own, which the kernel maps when first written: a side's
+/// row numbers are aligned to A's entries, and the other side's columns between its own and the
+/// separator's, never written, cost no memory (4.8 MB at 201 x 201 for the first side).
+class MappedIntArray {
+public:
+    explicit MappedIntArray(std::size_t size) : size_(size), bytes_(std::max<std::size_t>(1, size) * sizeof(int))
+    {
+        void* p = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (p == MAP_FAILED) throw std::bad_alloc();
+        data_ = static_cast<int*>(p);
+    }
+    ~MappedIntArray() { munmap(data_, bytes_); }
+    MappedIntArray(const MappedIntArray&) = delete;
+    MappedIntArray& operator=(const MappedIntArray&) = delete;
+    int* data() { return data_; }
+    const int* data() const { return data_; }
+    std::size_t size() const { return size_; }
+    int& operator[](std::size_t k) { return data_[k]; }
+    int operator[](std::size_t k) const { return data_[k]; }
+
+private:
+    int* data_ = nullptr;
+    std::size_t size_, bytes_;
+};
 
 /// The elimination tree of the symmetric matrix whose lower triangle is given (Liu's algorithm
 /// with path compression): parent[k] = -1 for a root.
@@ -121,29 +150,48 @@ std::optional<SplitCholesky::Split> SplitCholesky::find(const Eigen::SparseMatri
 /// One side with the separator appended: B = [Agg AgT; ATg ATT] and its factor. B is read in
 /// place from A's value array, as an unpacked matrix whose columns point at A's (a copy of the
 /// values for each side at every factorisation was about 20 MB at 201 x 201: 2.4 million entries).
+///
+/// Once S is formed the factor's corner C (its last diagonal block) is replaced by the identity:
+/// a forward solve then leaves -LTg w in the separator's rows, which is all the separator needs
+/// of the side (C z with z = -C^-1 LTg w before), and a backward solve takes x_T there as it is.
+/// So C's storage holds C C^T while S is formed, and side 0's then holds chol(S): neither
+/// product nor S has storage of its own (2 x 11.6 MB at 201 x 201).
 struct SplitCholesky::Side {
     int first = 0, end = 0;               ///< the side's columns of A
     int separator_begin = 0, size = 0;    ///< the separator's columns of A: [separator_begin, size)
     std::ptrdiff_t base = 0;              ///< A's first entry that B reads
     std::vector<int> column_starts, column_counts;  ///< B's columns, as offsets from base
-    std::vector<int> rows;                ///< B's row of A's entry base + q (unread entries: -1)
+    MappedIntArray rows;                  ///< B's row of A's entry base + q (unread entries never written)
     cholmod_common common{};
     cholmod_factor* factor = nullptr;
-    /// C, B's factor's last diagonal block (lower), read in place from the factor's last
-    /// supernode, or from corner_copy when the separator spans several supernodes.
-    const double* corner_data = nullptr;
+    /// The corner: the factor's last diagonal block, in place in its last supernode, or
+    /// corner_copy when the separator spans several supernodes (the factor's own entries are
+    /// then set to the identity at once).
+    double* corner_data = nullptr;
     Eigen::Index corner_stride = 0;
+    bool corner_in_place = false;
     Eigen::MatrixXd corner_copy;
 
-    using CornerMap = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+    using CornerMap = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
     CornerMap corner() const { return CornerMap(corner_data, separator(), separator(), Eigen::OuterStride<>(corner_stride)); }
 
     int own() const { return end - first; }
     int separator() const { return size - separator_begin; }
     int dimension() const { return own() + separator(); }
 
+    /// f(j, k) for B's columns k = 0, 1, ... and the columns j of A they are.
+    template <class F> void for_each_column(const F& f) const
+    {
+        int k = 0;
+        for (int j = first; j < end; ++j) f(j, k++);
+        for (int j = separator_begin; j < size; ++j) f(j, k++);
+    }
+    /// B's row of A's row r.
+    int row_of(int r) const { return r < end ? r - first : r - separator_begin + own(); }
+
     Side(const Eigen::SparseMatrix<double>& lower, int first_column, int end_column, int separator_first)
-        : first(first_column), end(end_column), separator_begin(separator_first), size(static_cast<int>(lower.cols()))
+        : first(first_column), end(end_column), separator_begin(separator_first), size(static_cast<int>(lower.cols())),
+          base(lower.outerIndexPtr()[first_column]), rows(static_cast<std::size_t>(lower.outerIndexPtr()[lower.cols()] - base))
     {
         cholmod_start(&common);
         common.nmethods = 1;
@@ -153,21 +201,13 @@ struct SplitCholesky::Side {
         common.print = 0;                        // a failure is returned, not printed to stdout
         const int* outer = lower.outerIndexPtr();
         const int* inner = lower.innerIndexPtr();
-        base = outer[first];
-        rows.assign(outer[size] - base, -1);
-        column_starts.reserve(dimension());
-        column_counts.reserve(dimension());
-        for (int range = 0; range < 2; ++range) {
-            const int from = range == 0 ? first : separator_begin, to = range == 0 ? end : size;
-            for (int j = from; j < to; ++j) {
-                column_starts.push_back(static_cast<int>(outer[j] - base));
-                column_counts.push_back(outer[j + 1] - outer[j]);
-                for (int q = outer[j]; q < outer[j + 1]; ++q) {
-                    const int r = inner[q];
-                    rows[q - base] = r < end ? r - first : r - separator_begin + own();
-                }
-            }
-        }
+        column_starts.resize(dimension());
+        column_counts.resize(dimension());
+        for_each_column([&](int j, int k) {
+            column_starts[k] = static_cast<int>(outer[j] - base);
+            column_counts[k] = outer[j + 1] - outer[j];
+            for (int q = outer[j]; q < outer[j + 1]; ++q) rows[q - base] = row_of(inner[q]);
+        });
         cholmod_sparse pattern = matrix(nullptr);
         pattern.xtype = CHOLMOD_PATTERN;
         factor = cholmod_analyze(&pattern, &common);
@@ -184,15 +224,32 @@ struct SplitCholesky::Side {
     Side(const Side&) = delete;
     Side& operator=(const Side&) = delete;
 
+    /// Whether `lower` has the pattern of A on this side's columns.
+    bool reads(const Eigen::SparseMatrix<double>& lower) const
+    {
+        const int* outer = lower.outerIndexPtr();
+        const int* inner = lower.innerIndexPtr();
+        if (outer[first] != base || static_cast<std::size_t>(outer[size] - base) != rows.size()) return false;
+        bool same = true;
+        for_each_column([&](int j, int k) {
+            if (!same || outer[j] - base != column_starts[k] || outer[j + 1] - outer[j] != column_counts[k]) {
+                same = false;
+                return;
+            }
+            for (int q = outer[j]; q < outer[j + 1] && same; ++q) same = rows[q - base] == row_of(inner[q]);
+        });
+        return same;
+    }
+
     /// B over A's values (CHOLMOD only reads them).
-    cholmod_sparse matrix(const double* values)
+    cholmod_sparse matrix(const double* values) const
     {
         cholmod_sparse b{};
         b.nrow = b.ncol = static_cast<std::size_t>(dimension());
         b.nzmax = rows.size();
-        b.p = column_starts.data();
-        b.nz = column_counts.data();
-        b.i = rows.data();
+        b.p = const_cast<int*>(column_starts.data());
+        b.nz = const_cast<int*>(column_counts.data());
+        b.i = const_cast<int*>(rows.data());
         b.x = const_cast<double*>(values);
         b.stype = -1;
         b.itype = CHOLMOD_INT;
@@ -203,9 +260,9 @@ struct SplitCholesky::Side {
         return b;
     }
 
-    /// Factorises B + shift I and computes C C^T into the lower triangle of `product`; false
-    /// when B is not positive definite.
-    bool factorize(const Eigen::SparseMatrix<double>& lower, double shift, Eigen::MatrixXd& product)
+    /// Factorises B + shift I and leaves J C C^T J (J reverses the separator's order) in the
+    /// corner's upper triangle; false when B is not positive definite.
+    bool factorize(const Eigen::SparseMatrix<double>& lower, double shift)
     {
         cholmod_sparse b = matrix(lower.valuePtr() + base);
         double beta[2] = {shift, 0};
@@ -213,20 +270,21 @@ struct SplitCholesky::Side {
             throw RuntimeError("fast solver: the Newton matrix's split could not be factorised");
         if (common.status == CHOLMOD_NOT_POSDEF || factor->minor < factor->n) return false;
         find_corner();
-        // C C^T by LAPACK's U U^T on the reversed (so upper) C.
-        const int s = separator();
-        const CornerMap c_g = corner();
-        product.resize(s, s);
-        for (int c = 0; c < s; ++c)
-            for (int r = c; r < s; ++r) product(s - 1 - r, s - 1 - c) = c_g(r, c);
+        // C C^T by LAPACK's U U^T on U = J C J, upper: C's lower triangle reversed in place.
+        const int s = separator(), stride = static_cast<int>(corner_stride);
+        CornerMap c = corner();
+        for (int col = 0; col < s; ++col)
+            for (int r = col + 1; r < s; ++r) std::swap(c(r, col), c(s - 1 - r, s - 1 - col));
+        for (int r = 0; r < s / 2; ++r) std::swap(c(r, r), c(s - 1 - r, s - 1 - r));
         int info = 0;
-        dlauum_("U", &s, product.data(), &s, &info, 1);
+        dlauum_("U", &s, c.data(), &stride, &info, 1);
         if (info != 0) throw RuntimeError("fast solver: the Newton matrix's separator product failed");
         return true;
     }
 
-    /// Points corner_data at C: in place when B's last supernode holds the whole separator
-    /// (and no rows below its diagonal block), else a copy from the supernodes that hold it.
+    /// Points corner_data at the corner: in place when B's last supernode holds the whole
+    /// separator (and no rows below its diagonal block), else a copy from the supernodes that
+    /// hold it, whose entries become the identity's.
     void find_corner()
     {
         const int s = separator(), t0 = own();
@@ -234,12 +292,13 @@ struct SplitCholesky::Side {
         const int* pi = static_cast<const int*>(factor->pi);
         const int* px = static_cast<const int*>(factor->px);
         const int* supernode_rows = static_cast<const int*>(factor->s);
-        const double* x = static_cast<const double*>(factor->x);
+        double* x = static_cast<double*>(factor->x);
         const std::size_t last = factor->nsuper - 1;
         const int k1 = super[last], k2 = super[last + 1], last_height = pi[last + 1] - pi[last];
         if (k1 <= t0 && k2 == dimension() && last_height == k2 - k1) {
             corner_data = x + px[last] + static_cast<std::ptrdiff_t>(t0 - k1) * last_height + (t0 - k1);
             corner_stride = last_height;
+            corner_in_place = true;
             return;
         }
         corner_copy.setZero(s, s);
@@ -249,13 +308,28 @@ struct SplitCholesky::Side {
             const int height = pi[sn + 1] - pi[sn];
             const int* r = supernode_rows + pi[sn];
             for (int c = std::max(first_column, t0); c < end_column; ++c) {
-                const double* column = x + px[sn] + static_cast<std::ptrdiff_t>(c - first_column) * height;
+                double* column = x + px[sn] + static_cast<std::ptrdiff_t>(c - first_column) * height;
                 for (int q = 0; q < height; ++q)
-                    if (r[q] >= c) corner_copy(r[q] - t0, c - t0) = column[q];
+                    if (r[q] >= c) {
+                        corner_copy(r[q] - t0, c - t0) = column[q];
+                        column[q] = r[q] == c ? 1.0 : 0.0;
+                    }
             }
         }
         corner_data = corner_copy.data();
         corner_stride = s;
+        corner_in_place = false;
+    }
+
+    /// The factor's corner becomes the identity (its lower triangle: what the solves read).
+    void corner_to_identity()
+    {
+        if (!corner_in_place) return;  // done by find_corner
+        CornerMap c = corner();
+        for (int col = 0; col < separator(); ++col) {
+            c(col, col) = 1.0;
+            for (int r = col + 1; r < separator(); ++r) c(r, col) = 0.0;
+        }
     }
 
     /// L y = rhs or L^T y = rhs (system CHOLMOD_L or CHOLMOD_Lt) in place.
@@ -283,71 +357,80 @@ SplitCholesky::SplitCholesky(const Eigen::SparseMatrix<double>& lower, Split spl
 
 SplitCholesky::~SplitCholesky() = default;
 
+bool SplitCholesky::analysed_for(const Eigen::SparseMatrix<double>& lower) const
+{
+    return lower.cols() == size_ && lower.rows() == size_ && lower.isCompressed() && sides_[0]->reads(lower) && sides_[1]->reads(lower);
+}
+
 int SplitCholesky::corners_in_place() const
 {
     int in_place = 0;
     for (const std::unique_ptr<Side>& side : sides_)
-        if (side->corner_data && side->corner_data != side->corner_copy.data()) ++in_place;
+        if (side->corner_data && side->corner_in_place) ++in_place;
     return in_place;
 }
 
 bool SplitCholesky::factorize(const Eigen::SparseMatrix<double>& lower, double shift, bool parallel)
 {
     factorised_ = false;
-    // Side 0's reversed C C^T goes straight into S's storage (one s x s buffer fewer: 11.6 MB
-    // at 201 x 201), side 1's into its own.
-    Eigen::MatrixXd& S = separator_factor_;
-    Eigen::MatrixXd product;
     std::array<bool, 2> ok{};
-    for_both_sides(parallel, [&](int g) { ok[g] = sides_[g]->factorize(lower, shift, g == 0 ? S : product); });
+    for_both_sides(parallel, [&](int g) { ok[g] = sides_[g]->factorize(lower, shift); });
     if (!ok[0] || !ok[1]) return false;
-    // S = C1 C1^T + C2 C2^T - (ATT + shift I), its lower triangle. Reversing the column-major
-    // array maps entry (r, c) to (s-1-r, s-1-c), so side 0's product is then in place.
+    // J S J = J (C1 C1^T + C2 C2^T - ATT - shift I) J, its upper triangle, in side 0's corner.
     const int s = size_ - split_.separator_begin, t0 = split_.separator_begin;
-    std::reverse(S.data(), S.data() + S.size());
+    Side::CornerMap S = sides_[0]->corner();
+    const Side::CornerMap product = sides_[1]->corner();
     for (int c = 0; c < s; ++c)
-        for (int r = c; r < s; ++r) S(r, c) += product(s - 1 - r, s - 1 - c);
-    product = Eigen::MatrixXd();
+        for (int r = 0; r <= c; ++r) S(r, c) += product(r, c);
+    sides_[1]->corner_to_identity();
     const int* outer = lower.outerIndexPtr();
     const int* inner = lower.innerIndexPtr();
     const double* values = lower.valuePtr();
     for (int c = t0; c < size_; ++c)
-        for (int q = outer[c]; q < outer[c + 1]; ++q) S(inner[q] - t0, c - t0) -= values[q];
+        for (int q = outer[c]; q < outer[c + 1]; ++q) S(s - 1 - (inner[q] - t0), s - 1 - (c - t0)) -= values[q];
     for (int c = 0; c < s; ++c) S(c, c) -= shift;
-    int info = 0;
-    dpotrf_("L", &s, S.data(), &s, &info, 1);
+    // J S J = U^T U = V^T D^2 V with V = D^-1 U unit upper: V's strict upper triangle stays in
+    // the corner, D on its own, and the corner's diagonal and lower triangle become the identity.
+    int info = 0, stride = static_cast<int>(S.outerStride());
+    dpotrf_("U", &s, S.data(), &stride, &info, 1);
     if (info < 0) throw RuntimeError("fast solver: the Newton matrix's separator could not be factorised");
-    factorised_ = info == 0;
-    return factorised_;
+    if (info > 0) return false;
+    separator_diagonal_.resize(s);
+    for (int k = 0; k < s; ++k) separator_diagonal_[k] = S(k, k);
+    for (int c = 0; c < s; ++c)
+        for (int r = 0; r < c; ++r) S(r, c) /= separator_diagonal_[r];
+    sides_[0]->corner_to_identity();
+    factorised_ = true;
+    return true;
 }
 
 Eigen::VectorXd SplitCholesky::solve(const Eigen::VectorXd& b, bool parallel) const
 {
     if (!factorised_) throw RuntimeError("fast solver: a solve with no factorisation");
     const int s = size_ - split_.separator_begin, t0 = split_.separator_begin;
-    // Forward: [w; z] = L_g^-1 [b_g; 0], so that LTg w = -C z.
-    std::array<Eigen::VectorXd, 2> y, coupling;
+    // Forward: [w; z] = L_g^-1 [b_g; 0] with the identity corner: z = -LTg w.
+    std::array<Eigen::VectorXd, 2> y;
     for_both_sides(parallel, [&](int g) {
         const Side& side = *sides_[g];
         y[g].setZero(side.dimension());
         y[g].head(side.own()) = b.segment(side.first, side.own());
         side.triangular_solve(CHOLMOD_L, y[g]);
-        coupling[g] = side.corner().triangularView<Eigen::Lower>() * y[g].tail(s);
     });
-    Eigen::VectorXd separator = b.tail(s) + coupling[0] + coupling[1];
-    const auto factor = separator_factor_.triangularView<Eigen::Lower>();
-    factor.solveInPlace(separator);
-    factor.transpose().solveInPlace(separator);
-    // Backward: L_g^T [x_g; x_T] = [w; C^T x_T].
+    // S x_T = b_T - LT1 w_1 - LT2 w_2, as (V^T D^2 V) J x_T = J (...).
+    Eigen::VectorXd reversed = (b.tail(s) + y[0].tail(s) + y[1].tail(s)).reverse();
+    const auto unit_upper = std::as_const(*sides_[0]).corner().triangularView<Eigen::UnitUpper>();
+    unit_upper.transpose().solveInPlace(reversed);
+    for (int k = 0; k < s; ++k) reversed[k] = reversed[k] / separator_diagonal_[k] / separator_diagonal_[k];
+    unit_upper.solveInPlace(reversed);
+    // Backward: L_g^T [x_g; x_T] = [w; x_T].
     Eigen::VectorXd x(size_);
+    x.segment(t0, s) = reversed.reverse();
     for_both_sides(parallel, [&](int g) {
         const Side& side = *sides_[g];
-        const Side::CornerMap corner = side.corner();
-        y[g].tail(s) = corner.transpose().triangularView<Eigen::Upper>() * separator;
+        y[g].tail(s) = x.segment(t0, s);
         side.triangular_solve(CHOLMOD_Lt, y[g]);
         x.segment(side.first, side.own()) = y[g].head(side.own());
     });
-    x.segment(t0, s) = separator;
     return x;
 }
 

@@ -7,7 +7,9 @@
 // B_g = [Agg AgT; ATg ATT] = L_g L_g^T, whose last diagonal block C_g satisfies
 // C_g C_g^T = ATT - ATg Agg^-1 AgT (positive definite with A). The separator's Schur complement
 // is then S = C_1 C_1^T + C_2 C_2^T - ATT, factorised densely, and the factor of A is
-// [L11 0 0; 0 L22 0; LT1 LT2 chol(S)] with L11, L22, LT1, LT2 read from the two factors.
+// [L11 0 0; 0 L22 0; LT1 LT2 chol(S)] with L11, L22, LT1, LT2 read from the two factors. The
+// corners C_g are needed only to form S: the factors' corners then become the identity and side
+// 0's holds chol(S), so the split keeps no dense block beside its factors.
 // The result does not depend on whether the sides ran at once: the same bits either way.
 #include <array>
 #include <memory>
@@ -44,6 +46,10 @@ public:
     /// (lower + shift I)^-1 b with the last successful factorisation.
     Eigen::VectorXd solve(const Eigen::VectorXd& b, bool parallel) const;
 
+    /// Whether `lower` has the pattern analysed (checked against the sides' own index arrays:
+    /// no copy of the pattern is kept).
+    bool analysed_for(const Eigen::SparseMatrix<double>& lower) const;
+
     int size() const { return size_; }
     /// How many of the two sides' corners C_g the last factorisation read in place from their
     /// factors (the others were copied: a separator over several supernodes).
@@ -55,7 +61,9 @@ private:
     int size_ = 0;
     Split split_;
     std::array<std::unique_ptr<Side>, 2> sides_;
-    Eigen::MatrixXd separator_factor_;  ///< chol(S), lower
+    /// D of J S J = V^T D^2 V (J reversing the separator's order), V unit upper: V is in side
+    /// 0's corner above its diagonal.
+    Eigen::VectorXd separator_diagonal_;
     bool factorised_ = false;
 };
 
