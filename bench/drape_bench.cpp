@@ -9,7 +9,8 @@
 // Usage: drape_bench --woven BUILD/woven [--bullet BUILD/bench/peers/bullet_drape] --out DIR
 //        [--grids 51,101,201] [--paper-grids 21,51] [--repeat 3] [--bullet-max-wall 300]
 //        [--max-wall 1800] [--reference-energy 0.4760152] [--skip-threads2]
-//        drape_bench --from-runs DIR/runs.json --out DIR2   tabulates an earlier, possibly killed run
+//        drape_bench --from-runs DIR/runs.json [--from-runs MORE.json ...] --out DIR2   tabulates
+//        earlier, possibly killed runs, several files together
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -51,7 +52,7 @@ struct Options {
     double max_wall = 1800;        // s: a run is killed after this
     double reference_energy = 0;   // J: the 51 x 51 final energy before the performance work
     bool threads2 = true;
-    std::string from_runs;  // a runs.json to tabulate instead of running
+    std::vector<std::string> from_runs;  // runs.json files to tabulate together instead of running
 };
 
 struct Outcome {
@@ -297,14 +298,14 @@ int main(int argc, char** argv)
         else if (a == "--reference-energy")
             opt.reference_energy = std::stod(value());
         else if (a == "--from-runs")
-            opt.from_runs = value();
+            opt.from_runs.push_back(value());
         else if (a == "--skip-threads2")
             opt.threads2 = false;
         else if (a == "--help" || a == "-h") {
             std::cout << "usage: drape_bench --woven WOVEN [--bullet BULLET] --out DIR [--grids 51,101,201] [--paper-grids 21,51]\n"
                          "       [--repeat 3] [--bullet-max-wall 300] [--max-wall 1800] [--reference-energy J] [--skip-threads2]\n"
                          "       [--blender BLENDER --blender-script bench/peers/blender_drape.py] [--blender-max-grid 51]\n"
-                         "       drape_bench --from-runs RUNS.json --out DIR [--reference-energy J]   (tabulate an earlier run)\n";
+                         "       drape_bench --from-runs RUNS.json [--from-runs MORE.json ...] --out DIR [--reference-energy J]   (tabulate earlier runs)\n";
             return 0;
         } else {
             std::cerr << "drape_bench: unknown option " << a << "\n";
@@ -331,14 +332,20 @@ int main(int argc, char** argv)
         std::ofstream(opt.out + "/runs.json") << runs.dump(1) << "\n";  // kept current: a killed bench keeps its runs
     };
     if (!opt.from_runs.empty()) {
-        // Tabulate an earlier (possibly interrupted) run instead of running.
-        std::ifstream in(opt.from_runs);
-        const json old = json::parse(in, nullptr, false);
-        if (old.is_discarded() || !old.is_array()) {
-            std::cerr << "drape_bench: " << opt.from_runs << ": a JSON array of runs is expected\n";
-            return 2;
+        // Tabulate earlier (possibly interrupted) runs instead of running: several files are
+        // tabulated together (a long run made on its own beside a make bench, say).
+        // All are read before any is written: <out>/runs.json may be one of them.
+        std::vector<json> earlier;
+        for (const std::string& file : opt.from_runs) {
+            std::ifstream in(file);
+            earlier.push_back(json::parse(in, nullptr, false));
+            if (earlier.back().is_discarded() || !earlier.back().is_array()) {
+                std::cerr << "drape_bench: " << file << ": a JSON array of runs is expected\n";
+                return 2;
+            }
         }
-        for (const json& r : old) add(r);
+        for (const json& file_runs : earlier)
+            for (const json& r : file_runs) add(r);
         opt.grids.clear();
         opt.paper_grids.clear();
         for (const auto& [c, rs] : by_case) {

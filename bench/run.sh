@@ -6,7 +6,9 @@
 # Usage: bash bench/run.sh BUILD_DIR        environment: BENCH_GRIDS (default 51,101,201),
 #        BENCH_PAPER_GRIDS (21,51), BENCH_REPEAT (3), BENCH_MATRIX=1 also runs drape_matrix.sh,
 #        BENCH_BLENDER=0 skips the Blender peer (run at 51 x 51 when blender is installed),
-#        BENCH_FROM_RUNS=DIR/runs.json tabulates an earlier (possibly killed) run instead of running,
+#        BENCH_FROM_RUNS="DIR/runs.json [MORE.json ...]" tabulates earlier (possibly killed) runs
+#        instead of running, BENCH_EXTRA_RUNS="A.json ..." adds runs made apart (a 201 x 201 drape on
+#        its own, a paper-solver run) to the table of the runs made now,
 #        BENCH_REFERENCE_ENERGY (J) the 51 x 51 energy before the change measured (d519f62 0.4760152)
 set -euo pipefail
 build=${1:-build}
@@ -24,7 +26,9 @@ dirty=""
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 
 if [[ -n "${BENCH_FROM_RUNS:-}" ]]; then
-  "$build/bench/drape_bench" --from-runs "$BENCH_FROM_RUNS" --out "$out" --reference-energy "${BENCH_REFERENCE_ENERGY:-0.4760152008957594}" > /dev/null
+  from=()
+  for f in $BENCH_FROM_RUNS; do from+=(--from-runs "$f"); done
+  "$build/bench/drape_bench" "${from[@]}" --out "$out" --reference-energy "${BENCH_REFERENCE_ENERGY:-0.4760152008957594}" > /dev/null
 else
   # Micro benchmarks, one thread (OpenMP and BLAS; oneTBB in each benchmark, the split ones their second argument).
   OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 "$build/bench/bench_model" --benchmark_min_time=0.3 > "$out/micro.txt" 2>&1
@@ -37,7 +41,15 @@ else
   "$build/bench/drape_bench" --woven "$build/woven" "${bullet[@]}" --out "$out" \
     --grids "${BENCH_GRIDS:-51,101,201}" --paper-grids "${BENCH_PAPER_GRIDS:-21,51}" --repeat "${BENCH_REPEAT:-3}" \
     --reference-energy "${BENCH_REFERENCE_ENERGY:-0.4760152008957594}" > /dev/null
+  if [[ -n "${BENCH_EXTRA_RUNS:-}" ]]; then
+    cp "$out/runs.json" "$out/runs-made-now.json"
+    from=(--from-runs "$out/runs-made-now.json")
+    for f in $BENCH_EXTRA_RUNS; do from+=(--from-runs "$f"); done
+    "$build/bench/drape_bench" "${from[@]}" --out "$out" --reference-energy "${BENCH_REFERENCE_ENERGY:-0.4760152008957594}" > /dev/null
+  fi
 fi
+# The raw runs beside the table they make, so that a later session can tabulate them again.
+cp "$out/runs.json" "$here/runs.json"
 cp "$out/time_vs_particles.png" "$here/time_vs_particles.png"
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 
@@ -62,7 +74,7 @@ load_after=$(cut -d' ' -f1-3 /proc/loadavg)
   echo "Command per run: \`woven drape cube --grid N --solver S --threads T --no-render\` and"
   echo "\`bench/peers/bullet_drape --n N\` (bench/peers/README.md). Time: the solver's own wall time"
   echo "(woven's report.json \`wall_time_s\`, Bullet's stepping time), median over the runs; CPU and"
-  echo "peak RSS of the whole process (wait4). Raw runs: \`$out/runs.json\`."
+  echo "peak RSS of the whole process (wait4). Raw runs: \`bench/runs.json\`."
   echo
   cat "$out/table.md"
   echo

@@ -13,10 +13,15 @@ namespace woven::cli {
 
 namespace {
 
-/// Fit of the measured peak RSS (kB) of `woven drape cube --grid N --threads 1`:
-/// RSS = kRssBase + kRssPerParticleLog * n log2(n), through 101x101 and 151x151 (51x51: 3 % over).
-constexpr double kRssBaseBytes = 10.8e6;
-constexpr double kRssPerParticleLogBytes = 830;  // 0.8107 kB
+/// Fits of the measured peak RSS of `woven drape cube --grid N --threads T --max-steps 2`,
+/// RSS = base + per_particle_log * n log2(n), relative least squares through N = 51, 101, 151,
+/// 201, 251 (each within 3 %; docs/RELIABILITY.md). Two threads or more factorise the two sides of
+/// the Newton matrix's top separator at once (sim/split_cholesky.hpp), each with its own copy of
+/// the separator's dense block and CHOLMOD workspace: 8-13 % more.
+constexpr double kRssBaseBytes = 15.8e6;
+constexpr double kRssPerParticleLogBytes = 617;
+constexpr double kRssBaseBytesThreaded = 16.9e6;
+constexpr double kRssPerParticleLogBytesThreaded = 682;
 /// Address space beyond RSS (VmPeak - VmHWM, measured 357 MB at 51x51 and 151x151 with one
 /// thread: libraries, the heap arenas and stacks of the worker threads), plus per thread.
 constexpr double kAddressSpaceBaseBytes = 400e6;
@@ -98,7 +103,9 @@ MemoryEstimate estimate_drape_memory(long long particles, int threads)
 {
     const double n = static_cast<double>(std::max(particles, 2LL));
     MemoryEstimate e;
-    e.resident_bytes = kMargin * (kRssBaseBytes + kRssPerParticleLogBytes * n * std::log2(n));
+    const bool threaded = threads >= 2;
+    e.resident_bytes = kMargin * ((threaded ? kRssBaseBytesThreaded : kRssBaseBytes) +
+                                  (threaded ? kRssPerParticleLogBytesThreaded : kRssPerParticleLogBytes) * n * std::log2(n));
     e.address_space_bytes = e.resident_bytes + kAddressSpaceBaseBytes + kAddressSpacePerThreadBytes * std::max(threads, 1);
     return e;
 }
