@@ -199,6 +199,24 @@ void newton_solve_split(benchmark::State& state)
     per_particle(state, s.setup.grid.size());
 }
 
+/// The CG's product y = H p with the Newton matrix (its stored lower triangle): Eigen's
+/// symmetric product on one thread (arg 1 = 1), the split's on two (arg 1 = 2).
+void newton_product(benchmark::State& state)
+{
+    const TbbThreads threads(static_cast<int>(state.range(1)));
+    const SplitSetup s(state);
+    if (!s.factor) return;
+    const Eigen::SparseMatrix<double>& lower = s.system.matrix();
+    const Eigen::VectorXd p = Eigen::VectorXd::Ones(lower.rows());
+    Eigen::VectorXd y(lower.rows());
+    for (auto _ : state) {
+        if (state.range(1) == 1) y.noalias() = lower.selfadjointView<Eigen::Lower>() * p;
+        else sim::SplitCholesky::symmetric_product(lower, s.factor->split(), p, y, true);
+        benchmark::DoNotOptimize(y.data());
+    }
+    per_particle(state, s.setup.grid.size());
+}
+
 /// One Newton linear solve reusing the last factorisation (the common case: CG preconditioned
 /// by the factor of a nearby matrix; here the same matrix).
 void newton_solve_reuse(benchmark::State& state)
@@ -251,6 +269,7 @@ BENCHMARK(newton_solve_reuse) WOVEN_GRIDS;
 #define WOVEN_SPLIT_GRIDS ->Args({51, 1})->Args({51, 2})->Args({101, 1})->Args({101, 2})->Args({201, 1})->Args({201, 2})->Unit(benchmark::kMillisecond)
 BENCHMARK(newton_refactorise_split) WOVEN_SPLIT_GRIDS;
 BENCHMARK(newton_solve_split) WOVEN_SPLIT_GRIDS;
+BENCHMARK(newton_product) WOVEN_SPLIT_GRIDS;
 BENCHMARK(mesh_obstacle_closest) WOVEN_GRIDS;
 
 }  // namespace

@@ -156,6 +156,24 @@ TEST(SplitCholesky, TwoThreadsGiveTheBitsOfOne)
     EXPECT_EQ(0, std::memcmp(x1.data(), x2.data(), sizeof(double) * x1.size()));
 }
 
+TEST(SplitCholesky, MultipliesAsTheWholeSymmetricMatrixInTheSameBitsOnTwoThreads)
+{
+    const Eigen::SparseMatrix<double> A = newton_matrix(31);
+    const auto split = sim::SplitCholesky::find(A, 200, 1000);
+    ASSERT_TRUE(split.has_value());
+    const Eigen::VectorXd p = random_vector(static_cast<int>(A.cols()), 7);
+    const Eigen::VectorXd expected = full(A) * p;
+    Eigen::VectorXd serial, parallel;
+    sim::SplitCholesky::symmetric_product(A, *split, p, serial, false);
+    sim::SplitCholesky::symmetric_product(A, *split, p, parallel, true);
+    // The reference sums in another order: equal to round-off of the largest term.
+    const double scale = Eigen::Map<const Eigen::VectorXd>(A.valuePtr(), A.nonZeros()).cwiseAbs().maxCoeff() * 30;
+    ASSERT_EQ(expected.size(), serial.size());
+    EXPECT_LE((serial - expected).cwiseAbs().maxCoeff(), 1e-14 * scale);
+    EXPECT_GT(serial.norm(), 0.1 * expected.norm());  // not a product that vanishes
+    EXPECT_EQ(0, std::memcmp(serial.data(), parallel.data(), sizeof(double) * serial.size()));
+}
+
 TEST(SplitCholesky, RefusesAMatrixThatIsNotPositiveDefinite)
 {
     Eigen::SparseMatrix<double> A = newton_matrix(25);

@@ -41,8 +41,19 @@ struct NewtonLinearSolver::Factor {
     Eigen::VectorXd solve(const Eigen::VectorXd& b) const
     {
         if (!split) return llt.solve(b);
+        return split->solve(b, parallel_solves());
+    }
+    /// y = A p (A's lower triangle given), the CG's product: with a split factor on the sides'
+    /// two threads (a third of a CG iteration at 201 x 201, serial before).
+    void product(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& p, Eigen::VectorXd& y) const
+    {
+        if (split && A.cols() == split->size()) SplitCholesky::symmetric_product(A, split->split(), p, y, parallel_solves());
+        else y.noalias() = A.selfadjointView<Eigen::Lower>() * p;
+    }
+    bool parallel_solves() const
+    {
         const SplitCholesky::Split& s = split->split();
-        return split->solve(b, std::min(s.side_end, s.separator_begin - s.side_end) >= kMinParallelSolveSide);
+        return std::min(s.side_end, s.separator_begin - s.side_end) >= kMinParallelSolveSide;
     }
 
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
@@ -203,7 +214,7 @@ NewtonLinearSolver::CgEnd NewtonLinearSolver::truncated_cg(const Eigen::SparseMa
     double rz = r.dot(z);
     for (int k = 0; k < max_iterations; ++k) {
         if (r.norm() <= target) return CgEnd::CONVERGED;
-        Ap.noalias() = A.selfadjointView<Eigen::Lower>() * p;
+        factor_->product(A, p, Ap);
         const double pAp = p.dot(Ap);
         if (!(pAp > 0)) {
             if (k == 0) d = z;  // P^-1 rhs: the projected Newton step

@@ -404,6 +404,61 @@ bool SplitCholesky::factorize(const Eigen::SparseMatrix<double>& lower, double s
     return true;
 }
 
+namespace {
+
+/// Columns [first, last) of y += A p (A's lower triangle): each column's entries below the
+/// diagonal scatter into y up to row `limit` (excluded) and all of them gather into y_c. The
+/// entries at rows >= limit are left for scatter_from.
+void product_columns(const Eigen::SparseMatrix<double>& lower, const Eigen::VectorXd& p, Eigen::VectorXd& y, int first, int last, int limit)
+{
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    const double* value = lower.valuePtr();
+    for (int c = first; c < last; ++c) {
+        const double pc = p[c];
+        double gathered = 0;
+        int k = outer[c];
+        const int end = outer[c + 1];
+        if (k < end && inner[k] == c) gathered = value[k++] * pc;
+        for (; k < end; ++k) {
+            const int r = inner[k];
+            if (r < limit) y[r] += value[k] * pc;
+            gathered += value[k] * p[r];
+        }
+        y[c] += gathered;
+    }
+}
+
+/// The scatter of columns [first, last) into rows >= limit (what product_columns left).
+void scatter_from(const Eigen::SparseMatrix<double>& lower, const Eigen::VectorXd& p, Eigen::VectorXd& y, int first, int last, int limit)
+{
+    const int* outer = lower.outerIndexPtr();
+    const int* inner = lower.innerIndexPtr();
+    const double* value = lower.valuePtr();
+    for (int c = first; c < last; ++c) {
+        const int* begin = inner + outer[c];
+        const int* end = inner + outer[c + 1];
+        for (const int* it = std::lower_bound(begin, end, limit); it != end; ++it) y[*it] += value[it - inner] * p[c];
+    }
+}
+
+}  // namespace
+
+void SplitCholesky::symmetric_product(const Eigen::SparseMatrix<double>& lower, const Split& split, const Eigen::VectorXd& p, Eigen::VectorXd& y,
+                                      bool parallel)
+{
+    const int n = static_cast<int>(lower.cols());
+    y.setZero(n);
+    // Side 0's columns write its rows and the separator's; side 1's only its own rows, at once.
+    const int t0 = split.separator_begin;
+    for_both_sides(parallel, [&](int g) {
+        if (g == 0) product_columns(lower, p, y, 0, split.side_end, n);
+        else product_columns(lower, p, y, split.side_end, t0, t0);
+    });
+    scatter_from(lower, p, y, split.side_end, t0, t0);
+    product_columns(lower, p, y, t0, n, n);
+}
+
 Eigen::VectorXd SplitCholesky::solve(const Eigen::VectorXd& b, bool parallel) const
 {
     if (!factorised_) throw RuntimeError("fast solver: a solve with no factorisation");

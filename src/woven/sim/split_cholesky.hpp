@@ -51,6 +51,13 @@ public:
     bool analysed_for(const Eigen::SparseMatrix<double>& lower) const;
 
     int size() const { return size_; }
+    /// y = A p for A symmetric given by its lower triangle `lower` (compressed columns, rows
+    /// ascending) in the order `split` describes, as the CG's product: the two sides' columns on
+    /// two threads at once when `parallel`, each writing only its side's rows; the second side's
+    /// entries in separator rows are added after it, then the separator's columns. Every y_i
+    /// sums its terms in the same order either way: the bits do not depend on `parallel`.
+    static void symmetric_product(const Eigen::SparseMatrix<double>& lower, const Split& split, const Eigen::VectorXd& p, Eigen::VectorXd& y,
+                                  bool parallel);
     /// How many of the two sides' corners C_g the last factorisation read in place from their
     /// factors (the others were copied: a separator over several supernodes).
     int corners_in_place() const;
