@@ -3,6 +3,9 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace woven::sim {
 
 double Barrier::value(double d) const
@@ -67,13 +70,28 @@ std::vector<FrictionContact> friction_contacts(const std::vector<Contact>& conta
     return out;
 }
 
+namespace {
+/// Particles per oneTBB task of obstacle_distances (a box query costs tens of nanoseconds).
+constexpr std::size_t kDistanceGrain = 2048;
+}  // namespace
+
+void obstacle_distances(const geometry::Obstacle& obstacle, const Positions& x, std::vector<double>& d)
+{
+    d.resize(x.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, x.size(), kDistanceGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) d[i] = obstacle.distance(x[i]);
+    });
+}
+
 std::vector<Contact> find_contacts(const geometry::ObstacleSet& obstacles, const Positions& x, double d_hat)
 {
     std::vector<Contact> contacts;
+    std::vector<double> distance;
     for (size_t o = 0; o < obstacles.size(); ++o) {
         const geometry::Obstacle& ob = obstacles[o];
+        obstacle_distances(ob, x, distance);
         for (size_t i = 0; i < x.size(); ++i) {
-            if (ob.distance(x[i]) >= d_hat) continue;
+            if (distance[i] >= d_hat) continue;
             const geometry::ClosestPoint c = ob.closest(x[i]);
             contacts.push_back({static_cast<int>(i), c.distance, c.normal});
         }
@@ -92,13 +110,15 @@ double min_obstacle_distance(const geometry::ObstacleSet& obstacles, const Posit
 double collision_free_fraction(const geometry::ObstacleSet& obstacles, const Positions& x, const Positions& dx, double safety)
 {
     double alpha = 1.0;
+    std::vector<double> distance;
     for (size_t o = 0; o < obstacles.size(); ++o) {
         const geometry::Obstacle& ob = obstacles[o];
+        obstacle_distances(ob, x, distance);
         for (size_t i = 0; i < x.size(); ++i) {
             const double len = dx[i].norm();
             if (len == 0) continue;
             // Cheap rejection: a move shorter than the distance cannot reach the surface.
-            const double d = ob.distance(x[i]);
+            const double d = distance[i];
             if (len * alpha < d) continue;
             if (auto t = ob.first_contact(x[i], x[i] + alpha * dx[i])) alpha *= safety * *t;
         }

@@ -42,6 +42,11 @@ struct FrictionContact {
     Mat3 hessian(const Vec3& x, double eps) const;
 };
 
+/// d[i] = the obstacle's distance to x[i] for every particle, the queries on oneTBB's threads
+/// (obstacles are safe to query from several threads; a mesh's query walks a BVH). Callers sum
+/// over d in particle order, so results do not depend on the thread count.
+void obstacle_distances(const geometry::Obstacle& obstacle, const Positions& x, std::vector<double>& d);
+
 /// Contacts of all particles closer than `d_hat` to any obstacle (one per particle and obstacle).
 std::vector<Contact> find_contacts(const geometry::ObstacleSet& obstacles, const Positions& x, double d_hat);
 

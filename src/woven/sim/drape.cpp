@@ -8,6 +8,7 @@
 
 #include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
+#include "woven/sim/contact.hpp"
 #include "woven/sim/linear_solver.hpp"
 #include "woven/sim/solvers.hpp"
 
@@ -71,9 +72,11 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
     // An obstacle can push: a particle within the contact distance carries any outward normal
     // reaction, so the inward normal part of its force is not a residual; with friction, nor is
     // a tangential part up to mu times that reaction.
-    for (size_t o = 0; o < obstacles.size(); ++o)
+    std::vector<double> distance;
+    for (size_t o = 0; o < obstacles.size(); ++o) {
+        obstacle_distances(obstacles[o], x, distance);
         for (size_t i = 0; i < x.size(); ++i) {
-            if (obstacles[o].distance(x[i]) >= contact_distance) continue;
+            if (distance[i] >= contact_distance) continue;
             const Vec3 n = obstacles[o].closest(x[i]).normal;
             const double fn = force[i].dot(n);
             if (fn >= 0) continue;
@@ -82,6 +85,7 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
             const double ft = force[i].norm();
             force[i] *= ft > 0 ? std::max(0.0, ft + friction * fn) / ft : 0.0;
         }
+    }
     std::vector<char> is_pinned(x.size(), 0);
     for (int p : pinned) is_pinned.at(p) = 1;
     // Each particle against its own weight; without gravity, its weight in standard gravity.
