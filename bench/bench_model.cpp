@@ -29,7 +29,7 @@ using namespace woven;
 /// oneTBB limited to `threads` for a benchmark's lifetime: the model's local terms run on
 /// oneTBB's threads, and these benchmarks measure one (the split ones their argument). The BLAS
 /// runs on its caller's thread, as in a drape (sim/drape.cpp): a threaded OpenBLAS called from
-/// both sides of the split at once made newton_solve_split/201/2 take 102 ms instead of 29.
+/// both sides of the split at once made newton_solve_split/201/2 take 102 ms instead of 26.6.
 struct TbbThreads {
     explicit TbbThreads(int threads) : limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads))
     {
