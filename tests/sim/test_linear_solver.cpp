@@ -63,27 +63,6 @@ TEST(NewtonLinearSolver, NearbyMatrixReusesTheFactorisationThroughCG)
     EXPECT_LT((B * x - b).norm(), 1e-6 * b.norm());
 }
 
-TEST(NewtonLinearSolver, FreshSolveFactorisesEveryTimeAndLeavesItsFactorForCG)
-{
-    const Eigen::VectorXd b = random_vector(400);
-    woven::sim::NewtonLinearSolver solver;
-    Eigen::VectorXd x;
-    solver.solve(grid_matrix(20, 0.01), b, x);
-    // A nearby matrix that CG with the old factor would solve (see above) is factorised anyway,
-    // and solved exactly.
-    const Eigen::SparseMatrix<double> B = grid_matrix(20, 0.2);
-    solver.solve_fresh(B, b, x);
-    EXPECT_EQ(solver.factorizations(), 2);
-    EXPECT_EQ(solver.cg_iterations(), 0);
-    EXPECT_LT((B * x - b).norm(), 1e-10 * b.norm());
-    // The fresh factor is B's: the next solve with B needs no CG iteration beyond the first
-    // preconditioned residual, and no factorisation.
-    solver.solve(B, b, x);
-    EXPECT_EQ(solver.factorizations(), 2);
-    EXPECT_LE(solver.cg_iterations(), 1);
-    EXPECT_LT((B * x - b).norm(), 1e-6 * b.norm());
-}
-
 TEST(NewtonLinearSolver, FarMatrixIsFactorisedAfresh)
 {
     const Eigen::VectorXd b = random_vector(400);

@@ -70,13 +70,6 @@ struct FastSolverOptions {
     /// same drapes; 201 x 201 1554 -> 927 factorisations, 12 % less CPU; 101 x 101 3-4 %;
     /// 51 x 51 no change (bench/NOTES.md "Session 9")
     double static_projected_cg_tolerance = 0.1;
-    /// ... unless this: the static steps' projected Newton factorises its matrix at every
-    /// iteration and solves with the fresh factor (the tolerance above then unused). In the
-    /// 201 x 201 cube's static phase, where the flaps creep, a stale factor's CG reached 0.1
-    /// within max_cg_iterations in 55 of 120 iterations and the other 65 wasted 12 solves each
-    /// (about a factorisation's cost there): steps 7-8 took 53.9 s against 62.2 s on two
-    /// threads, the same energy to 1e-9 J; 51 and 101 x 101 no change (bench/NOTES.md "Session 14")
-    bool static_projected_fresh_factor = true;
     int max_cg_iterations = 12;       ///< beyond this the Newton matrix is factorised afresh
     bool static_newton_cg = true;     ///< static steps: CG on the exact Hessian preconditioned by the projected one's factor (linear_solver.hpp)
     /// ... once the residual is below this (residual force / (m g)); above it, projected Newton.

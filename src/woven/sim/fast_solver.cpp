@@ -178,9 +178,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             // one's factor. Near rest the projected
             // terms' dropped negative parts made projected Newton converge linearly (0.92 per
             // iteration on the 51 x 51 cube of d519f62, whose static steps took 104 iterations;
-            // 16 with Newton-CG, the same energy to 1e-8). Static projected Newton factorises
-            // afresh at every iteration: a stale factor's CG there failed about half the time
-            // (FastSolverOptions::static_projected_fresh_factor).
+            // 16 with Newton-CG, the same energy to 1e-8).
             if (static_step && fo.static_newton_cg && g_max < fo.static_newton_cg_below) {
                 // One matrix for both: the exact Hessian is assembled into `system`, and the
                 // projected one again only when it is factorised.
@@ -192,9 +190,6 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
                 };
                 system.to_matrix_order(-g, rhs);
                 linear.solve_exact(matrix, rhs, solution, fo.cg_tolerance);
-            } else if (static_step && fo.static_projected_fresh_factor) {
-                system.to_matrix_order(-g, rhs);
-                linear.solve_fresh(system.matrix(), rhs, solution);
             } else {
                 linear.set_tolerance(static_step ? fo.static_projected_cg_tolerance : fo.dynamic_cg_tolerance);
                 system.to_matrix_order(-g, rhs);

@@ -264,13 +264,6 @@ void NewtonLinearSolver::solve(const Eigen::SparseMatrix<double>& H, const Eigen
     d = factor_->solve(rhs);
 }
 
-void NewtonLinearSolver::solve_fresh(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)
-{
-    const SerialOpenMP serial;
-    factorize(H);
-    d = factor_->solve(rhs);
-}
-
 void set_blas_threads(int threads)
 {
     // OpenBLAS reads its thread count at load time; its setter is looked up at run time so that

@@ -39,9 +39,6 @@ public:
     /// (fill_reducing_order, SparseAssembly). Throws RuntimeError if H cannot be factorised even
     /// with a diagonal shift.
     void solve(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d);
-    /// Solves H d = rhs with a fresh factorisation of H (no stale-factor CG first), which later
-    /// solves may reuse.
-    void solve_fresh(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d);
     /// Solves A d = rhs to |A d - rhs| <= tolerance |rhs| by CG preconditioned with the factor
     /// of the positive definite P (factorised afresh when the last factor no longer gives
     /// convergence within max_cg_iterations). A is the exact, possibly indefinite Hessian: at
