@@ -7,8 +7,8 @@
 //
 // The hashes change whenever the physics or the discretisation does on purpose (a new mass
 // rule, a new fit, a solver setting). Then: run this test under ctest (which sets OpenBLAS's
-// kernels, tests/CMakeLists.txt), check that the drape still converges
-// and looks right, and replace the expected value by the one printed ("got").
+// kernels, tests/CMakeLists.txt), check that the drape still converges and looks right, and
+// replace the expected value by the one printed ("got").
 #include <gtest/gtest.h>
 
 #include <bit>
