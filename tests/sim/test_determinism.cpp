@@ -59,7 +59,7 @@ geometry::ObstacleSet floor_and_cube()
 
 // A 15 x 15 cloth of 1 m over the cube, off centre and turned (with friction: every code path of
 // the fast solver), the default perturbation of the start.
-constexpr std::uint64_t kFastCube = 0x030b9b9cce5da840ull;
+constexpr std::uint64_t kFastCube = 0xfc241f0878f60e8cull;
 constexpr int kFastCubeSteps = 12;
 
 TEST(Determinism, FastSolverCubeDrapeIsPinnedAtOneTwoAndFourThreads)

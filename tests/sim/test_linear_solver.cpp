@@ -74,8 +74,47 @@ TEST(NewtonLinearSolver, FarMatrixIsFactorisedAfresh)
     const Eigen::SparseMatrix<double> C = grid_matrix(20, 100.0) * 1e3;
     solver.solve(C, b, x);
     EXPECT_EQ(solver.factorizations(), 2);
-    EXPECT_EQ(solver.cg_iterations(), woven::sim::NewtonLinearSolver::Options{}.max_cg_iterations);
     EXPECT_LT((C * x - b).norm(), 1e-10 * b.norm());
+    // It gave up at the rate check: three iterations in, the residual's mean rate could not
+    // reach the tolerance by the cap.
+    EXPECT_EQ(solver.cg_iterations(), woven::sim::NewtonLinearSolver::Options{}.cg_rate_check_after);
+}
+
+TEST(NewtonLinearSolver, WithoutTheRateCheckAFailingAttemptRunsToTheCap)
+{
+    const Eigen::VectorXd b = random_vector(400);
+    woven::sim::NewtonLinearSolver::Options options;
+    options.cg_rate_check_after = 0;
+    woven::sim::NewtonLinearSolver solver(options);
+    Eigen::VectorXd x;
+    solver.solve(grid_matrix(20, 0.01), b, x);
+    const Eigen::SparseMatrix<double> C = grid_matrix(20, 100.0) * 1e3;
+    solver.solve(C, b, x);
+    EXPECT_EQ(solver.factorizations(), 2);
+    EXPECT_EQ(solver.cg_iterations(), options.max_cg_iterations);
+    EXPECT_LT((C * x - b).norm(), 1e-10 * b.norm());
+}
+
+TEST(NewtonLinearSolver, TheRateCheckKeepsAnAttemptThatConvergesSlowly)
+{
+    // Diagonal 0.01 -> 0.05 on a 30 x 30 grid: the stale factor's CG needs most of its 12
+    // iterations, and its rate is good enough from the third on. The same iterations with the
+    // check and without it.
+    const Eigen::VectorXd b = random_vector(900);
+    const Eigen::SparseMatrix<double> A = grid_matrix(30, 0.01), B = grid_matrix(30, 0.05);
+    woven::sim::NewtonLinearSolver::Options without;
+    without.cg_rate_check_after = 0;
+    woven::sim::NewtonLinearSolver checked, unchecked(without);
+    Eigen::VectorXd x, y;
+    checked.solve(A, b, x);
+    unchecked.solve(A, b, y);
+    checked.solve(B, b, x);
+    unchecked.solve(B, b, y);
+    EXPECT_EQ(unchecked.factorizations(), 1);
+    EXPECT_GT(unchecked.cg_iterations(), woven::sim::NewtonLinearSolver::Options{}.cg_rate_check_after);
+    EXPECT_EQ(checked.factorizations(), 1);
+    EXPECT_EQ(checked.cg_iterations(), unchecked.cg_iterations());
+    EXPECT_LT((B * x - b).norm(), 1e-6 * b.norm());
 }
 
 TEST(NewtonLinearSolver, AFailedStaleFactorIsNotRetriedAtOnce)
@@ -84,8 +123,10 @@ TEST(NewtonLinearSolver, AFailedStaleFactorIsNotRetriedAtOnce)
     // failed attempts in a row the next 2^k - 1 solves factorise without trying CG (each solve
     // stays exact), then the stale factor is tried again.
     const Eigen::VectorXd b = random_vector(400);
-    const int cap = woven::sim::NewtonLinearSolver::Options{}.max_cg_iterations;
-    woven::sim::NewtonLinearSolver solver;
+    woven::sim::NewtonLinearSolver::Options options;
+    options.cg_rate_check_after = 0;  // every failed attempt runs to the cap
+    const int cap = options.max_cg_iterations;
+    woven::sim::NewtonLinearSolver solver(options);
     Eigen::VectorXd x;
     int k = 0;
     auto next = [&] {

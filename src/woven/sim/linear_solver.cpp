@@ -202,18 +202,23 @@ void NewtonLinearSolver::factorize(const Eigen::SparseMatrix<double>& matrix)
 
 bool NewtonLinearSolver::preconditioned_cg(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d)
 {
-    return truncated_cg(H, rhs, d, options_.relative_tolerance, options_.max_cg_iterations) == CgEnd::CONVERGED;
+    return truncated_cg(H, rhs, d, options_.relative_tolerance, options_.max_cg_iterations, options_.cg_rate_check_after) == CgEnd::CONVERGED;
 }
 
 NewtonLinearSolver::CgEnd NewtonLinearSolver::truncated_cg(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& rhs, Eigen::VectorXd& d,
-                                                           double tolerance, int max_iterations)
+                                                           double tolerance, int max_iterations, int rate_check_after)
 {
-    const double target = tolerance * rhs.norm();
+    const double initial = rhs.norm(), target = tolerance * initial;
     d.setZero(rhs.size());
     Eigen::VectorXd r = rhs, z = factor_->solve(r), p = z, Ap(rhs.size());
     double rz = r.dot(z);
     for (int k = 0; k < max_iterations; ++k) {
-        if (r.norm() <= target) return CgEnd::CONVERGED;
+        const double residual = r.norm();
+        if (residual <= target) return CgEnd::CONVERGED;
+        // |r_k| (|r_k| / |r_0|)^((max - k) / k): the residual at the cap at the mean rate so far.
+        if (rate_check_after > 0 && k >= rate_check_after &&
+            residual * std::pow(residual / initial, static_cast<double>(max_iterations - k) / k) > target)
+            return CgEnd::LIMIT;
         factor_->product(A, p, Ap);
         const double pAp = p.dot(Ap);
         if (!(pAp > 0)) {

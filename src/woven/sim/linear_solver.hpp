@@ -27,6 +27,12 @@ public:
         /// threads' fall nearly every attempt fails, and the failed CG cost a third of the
         /// 51 x 51 cube's time (5848 CG iterations for 371 Newton iterations).
         int max_skipped_attempts = 15;
+        /// A stale-factor CG attempt of solve() gives up from this many iterations on (0: never)
+        /// once its residual, falling on at its mean rate so far, would still be above the
+        /// tolerance after max_cg_iterations: a failed attempt then costs a few solves, not
+        /// max_cg_iterations (at 201 x 201 particles 12 solves cost about one factorisation).
+        /// The same drapes, 4-7 % faster (bench/NOTES.md "Session 14").
+        int cg_rate_check_after = 3;
     };
     NewtonLinearSolver();
     explicit NewtonLinearSolver(Options options);
@@ -70,8 +76,11 @@ private:
     /// Preconditioned CG from d = 0; true when converged within the iteration limit.
     bool preconditioned_cg(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& rhs, Eigen::VectorXd& d);
     enum class CgEnd { CONVERGED, LIMIT, NEGATIVE_CURVATURE };
-    /// Preconditioned CG on A from d = 0 to `tolerance`, at most `max_iterations`.
-    CgEnd truncated_cg(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& rhs, Eigen::VectorXd& d, double tolerance, int max_iterations);
+    /// Preconditioned CG on A from d = 0 to `tolerance`, at most `max_iterations`; with
+    /// `rate_check_after` > 0 it ends with LIMIT from that iteration on when the residual's mean
+    /// rate of decrease so far would not reach the tolerance by `max_iterations`.
+    CgEnd truncated_cg(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& rhs, Eigen::VectorXd& d, double tolerance, int max_iterations,
+                       int rate_check_after = 0);
 
     struct Factor;
     Options options_;
