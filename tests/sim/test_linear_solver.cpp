@@ -97,7 +97,7 @@ TEST(NewtonLinearSolver, WithoutTheRateCheckAFailingAttemptRunsToTheCap)
 
 TEST(NewtonLinearSolver, TheRateCheckKeepsAnAttemptThatConvergesSlowly)
 {
-    // Diagonal 0.01 -> 0.05 on a 30 x 30 grid: the stale factor's CG needs most of its 12
+    // Diagonal 0.01 -> 0.05 on a 30 x 30 grid: the stale factor's CG needs 7 of its 12
     // iterations, and its rate is good enough from the third on. The same iterations with the
     // check and without it.
     const Eigen::VectorXd b = random_vector(900);
