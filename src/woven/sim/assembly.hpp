@@ -96,4 +96,20 @@ template <int N> void SparseAssembly::add(model::Term, const model::Stencil<N>& 
     }
 }
 
+/// A sink adding to a SparseAssembly with the stretch term's local derivatives times
+/// `stretch_weight`: the Newton system of the energy whose threads are `1 / stretch_weight`
+/// times softer (the fast solver's creep continuation, FastSolverOptions::creep_softening).
+struct WeightedStretchSink {
+    SparseAssembly& system;
+    double stretch_weight;
+    int parts() const { return system.parts(); }
+    template <int N> void add(model::Term term, const model::Stencil<N>& ids, const model::Local<N>& local, bool with_hessian, int part = -1)
+    {
+        if (term != model::Term::STRETCH) return system.template add<N>(term, ids, local, with_hessian, part);
+        model::Local<N> scaled = local;
+        model::scale_local(scaled, stretch_weight);
+        system.template add<N>(term, ids, scaled, with_hessian, part);
+    }
+};
+
 }  // namespace woven::sim

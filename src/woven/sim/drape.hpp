@@ -78,6 +78,21 @@ struct FastSolverOptions {
     /// iterations each (3356 in all); with projected Newton down to 1 m g, 785 CG iterations
     /// and 23 % fewer seconds for the whole drape (bench/NOTES.md).
     double static_newton_cg_below = 1.0;
+    /// The static creep's continuation (bench/NOTES.md "Session 16"). On a fine grid the hanging
+    /// flaps refold in static steps that each run into the Newton cap: a straight Newton move of
+    /// a turning flap lengthens its stiff threads with the square of the turn, so each iteration
+    /// moves it a fraction of a millimetre. Once `creep_capped_steps` static steps have run into
+    /// the cap, Phi's stretch term is divided by `creep_softening` (threads that much softer),
+    /// and each step that converges divides the softening by `creep_stage_ratio`, down to the
+    /// cloth's own threads; a softened static step ends at `creep_tolerance` (residual force /
+    /// (m g)), and the run ends only at rest on the cloth's own energy. 201 x 201 cube, two
+    /// threads: 1831 -> 1024 Newton iterations, 1302 -> 773 factorisations, 0.4704828 ->
+    /// 0.4704300 J (a lower drape). The 21, 51 and 101 x 101 cubes and the Cusick silk do not
+    /// creep (at most one capped step) and keep their bits. creep_softening 1: off.
+    double creep_softening = 100.0;
+    double creep_stage_ratio = 10.0;  ///< 100 (one stage) took 1531 iterations: the stiff threads crept again
+    int creep_capped_steps = 2;       ///< 101 x 101 runs into the cap once, near rest
+    double creep_tolerance = 0.1;
     LineSearchOptions line_search;
 };
 
@@ -172,6 +187,7 @@ struct Result {
     int iterations = 0;  ///< Newton iterations (fast) or minimisation sweeps (paper)
     int factorizations = 0;  ///< fast solver: sparse Cholesky factorisations
     int cg_iterations = 0;   ///< fast solver: preconditioned CG iterations
+    int softened_steps = 0;  ///< fast solver: steps solved with the creep's softened threads (FastSolverOptions::creep_softening)
     double simulated_time = 0;
     double wall_time = 0;  ///< s
     Equilibrium equilibrium;

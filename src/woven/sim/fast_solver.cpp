@@ -46,6 +46,8 @@ struct FastSolver {
     /// instead of hashing every particle (close_pairs was 10-13 % of the 51 x 51 cube's time).
     model::PairCache pairs;
     std::vector<double> distance;  ///< scratch: particle-obstacle distances (m)
+    /// The stretch term's weight in Phi: 1 / the creep's softening (1: the cloth's own threads).
+    double stretch_weight = 1.0;
 
     FastSolver(const Problem& problem, const SolverOptions& o)
         : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem)), mass(model.masses()), slip_eps(o.fast.friction_slip), pairs(model)
@@ -71,7 +73,9 @@ struct FastSolver {
         }
         for (const FrictionContact& f : friction) phi += f.value(x[f.particle], slip_eps);
         NoSink none;
-        phi += model.evaluate(x, model::Derivatives::NONE, none, pairs.pairs(x)).total();
+        model::EnergyTerms terms = model.evaluate(x, model::Derivatives::NONE, none, pairs.pairs(x));
+        terms.stretch *= stretch_weight;
+        phi += terms.total();
         return std::isfinite(phi) ? phi : kInf;
     }
 
@@ -81,7 +85,12 @@ struct FastSolver {
                   model::Derivatives what = model::Derivatives::PROJECTED)
     {
         system.clear();
-        model.evaluate(x, what, system, pairs.pairs(x));
+        if (stretch_weight == 1.0) {
+            model.evaluate(x, what, system, pairs.pairs(x));
+        } else {
+            WeightedStretchSink weighted{system, stretch_weight};
+            model.evaluate(x, what, weighted, pairs.pairs(x));
+        }
         for (size_t i = 0; i < x.size(); ++i)
             system.add_particle(static_cast<int>(i), mass[i] * inv_h2 * Mat3::Identity(), mass[i] * inv_h2 * (x[i] - x_tilde[i]));
         for (const Contact& c : find_contacts(obstacles, x, barrier.d_hat))
@@ -132,6 +141,12 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
     Eigen::VectorXd delta, rhs, solution;  // delta in particle order; rhs, solution in the matrix's (assembly.hpp)
     std::vector<model::Stencil<2>> extra_pairs;
 
+    // The creep's continuation (FastSolverOptions::creep_softening): the tensile stiffness is
+    // divided by `softening` while it is above 1.
+    int capped_static_steps = 0;
+    double softening = 1.0;
+    bool creep_started = fo.creep_softening <= 1.0;
+
     double h = options.time_step;
     for (int step = 1; step <= max_steps; ++step) {
         // The step: inertia toward x_tilde = x + h v, friction frozen at its start.
@@ -144,8 +159,14 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         // Dynamic steps need much less accuracy than the final static solve (its tolerance
         // is below the equilibrium test's, which lets obstacles push).
         const bool static_step = h >= fo.static_time_step;
-        const double newton_tolerance = !static_step ? std::max(fo.dynamic_tolerance, options.residual_tolerance)
-                                                                : fo.static_tolerance_factor * options.residual_tolerance;
+        if (static_step && !creep_started && capped_static_steps >= fo.creep_capped_steps) {
+            creep_started = true;
+            softening = fo.creep_softening;
+            solver.stretch_weight = 1.0 / softening;
+        }
+        double newton_tolerance = !static_step ? std::max(fo.dynamic_tolerance, options.residual_tolerance)
+                                                          : fo.static_tolerance_factor * options.residual_tolerance;
+        if (static_step && softening > 1.0) newton_tolerance = std::max(newton_tolerance, fo.creep_tolerance);
 
         // Newton on Phi.
         double phi = solver.incremental_potential(x, x_tilde, inv_h2);
@@ -224,13 +245,24 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         }
         result.iterations += iterations;
         if (result.interrupted) break;
+        if (static_step && softening == 1.0 && iterations >= fo.max_newton_iterations) ++capped_static_steps;
 
         for (int i = 0; i < n; ++i) v[i] = solver.pinned[i] ? Vec3::Zero() : Vec3((x[i] - x_prev[i]) / h / (1.0 + fo.damping * h));
         result.simulated_time += h;
         result.steps = step;
         result.equilibrium.max_move = max_displacement(x, x_prev);
         result.equilibrium.max_residual_rel = max_residual_relative(model, solver.obstacles, x, problem.pinned, options.contact_distance, options.friction);
-        const bool at_rest = result.equilibrium.max_residual_rel < options.residual_tolerance;
+        bool at_rest = result.equilibrium.max_residual_rel < options.residual_tolerance;
+        if (softening > 1.0) {
+            // Softened threads: not the cloth's rest; a converged step takes the next stage.
+            at_rest = false;
+            ++result.softened_steps;
+            if (newton_converged) {
+                softening /= fo.creep_stage_ratio;
+                if (softening <= 1.0 + 1e-12) softening = 1.0;
+                solver.stretch_weight = 1.0 / softening;
+            }
+        }
         if (progress) {
             const StepInfo info{step, result.simulated_time, model.energy(x), result.equilibrium.max_move, result.equilibrium.max_residual_rel};
             if (!progress(info)) {
