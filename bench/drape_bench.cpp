@@ -440,7 +440,7 @@ int main(int argc, char** argv)
     }
     {
         const double s201 = t201 / t("woven", "fast", 201, 2);
-        row("201 x 201: two threads >= 1.6 x faster than one", fmt(s201, "%.2f") + " x", s201 >= 1.6, std::isfinite(s201));
+        row("201 x 201: two threads >= 1.6 x faster than one", fmt(s201, "%.3f") + " x", s201 >= 1.6, std::isfinite(s201));
         std::string m;
         bool ok = true, known = false;
         for (int g : opt.grids) {
