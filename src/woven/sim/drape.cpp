@@ -148,6 +148,11 @@ Result drape(const Problem& problem, const SolverOptions& options, const Progres
         if (!p.allFinite()) throw InputError("", "initial", "positions must be finite");
     for (int p : problem.pinned)
         if (p < 0 || p >= problem.model->grid().size()) throw InputError("", "pinned", "particle index out of range");
+    const FastSolverOptions& fo = options.fast;
+    if (!(fo.creep_softening > 0) || !std::isfinite(fo.creep_softening))
+        throw InputError("", "fast.creep_softening", "must be a finite number above 0 (1 or less: off)");
+    if (fo.creep_softening > 1 && !(fo.creep_stage_ratio > 1 && std::isfinite(fo.creep_stage_ratio)))
+        throw InputError("", "fast.creep_stage_ratio", "must be a finite number above 1 while creep_softening is above 1");
     const ThreadCount threads(options.threads);
     return options.kind == SolverKind::FAST ? detail::fast_drape(problem, options, progress, iteration)
                                             : detail::paper_drape(problem, options, progress, iteration);
