@@ -276,6 +276,11 @@ TEST_F(Cli, DrapeNoRenderAndOverrides)
     EXPECT_EQ(j["fabric"], "wool");
     EXPECT_EQ(j["seed"], 5);
     EXPECT_LE(j["steps"].get<int>(), 3);
+    EXPECT_EQ(j["creep_softening"].get<double>(), 100.0);  // the continuation's default (sim/drape.hpp)
+    // The creep continuation off, from the scene: recorded as given.
+    write(dir_ / "nocreep.toml", kTinyScene + "\n[solver]\ncreep_softening = 1\n");
+    ASSERT_EQ(woven("drape nocreep.toml --out res3 --max-steps 1 --no-render").code, 0);
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "res3" / "report.json"))["creep_softening"].get<double>(), 1.0);
     // The shear law as measured: no factor.
     write(dir_ / "measured.toml", kTinyScene + "\n[model]\nshear_law = \"measured\"\n");
     ASSERT_EQ(woven("drape measured.toml --out res2 --max-steps 1 --no-render").code, 0);

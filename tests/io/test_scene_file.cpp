@@ -155,7 +155,7 @@ TEST(SceneFile, DefaultsAndAllSections)
     const std::string text = cube_scene("rotation_deg = 30\npinned = [[0, 0], [10, 0]]\nclamped_edges = [\"j1\"]\n",
                                         "[solver]\nkind = \"paper\"\nseed = 7\nmax_steps = 100\nresidual_tolerance = 0.01\n"
                                         "move_tolerance_m = 1e-6\ntime_step_s = 0.01\ncontact_distance_m = 0.002\n"
-                                        "viscosity_per_s = 1.5\nfriction = 0.4\nthreads = 2\n"
+                                        "viscosity_per_s = 1.5\nfriction = 0.4\nthreads = 2\ncreep_softening = 1\n"
                                         "[model]\nbending_form = \"work\"\nshear_law = \"measured\"\ngram_force = \"standard\"\ngravity_m_s2 = 9.81\nC0_J = 0.5\n"
                                         "[camera]\neye_m = [1, 2, 3]\ntarget_m = [0, 0, 0]\nfov_deg = 40\n");
     std::vector<std::string> warnings;
@@ -173,6 +173,7 @@ TEST(SceneFile, DefaultsAndAllSections)
     EXPECT_DOUBLE_EQ(s.solver.viscosity, 1.5);
     EXPECT_DOUBLE_EQ(s.solver.friction, 0.4);
     EXPECT_EQ(s.solver.threads, 2);
+    EXPECT_DOUBLE_EQ(s.solver.fast.creep_softening, 1.0);  // the continuation off
     EXPECT_EQ(s.model.bending_form, model::BendingForm::WORK);
     EXPECT_EQ(s.model.shear_law, model::ShearLaw::MEASURED);
     EXPECT_EQ(s.model.gram_force, units::GramForce::STANDARD);
@@ -298,6 +299,8 @@ INSTANTIATE_TEST_SUITE_P(
         ErrorCase{"ZeroRadius", cube_scene("", "[[obstacle]]\ntype = \"sphere\"\ncentre_m = [3, 3, 0]\nradius_m = 0\n"),
                   {"obstacle[3].radius_m", "positive"}},
         ErrorCase{"NegativeFriction", "[solver]\nfriction = -0.2\n", {"solver.friction", "-0.2"}},
+        ErrorCase{"CreepSofteningBelowOne", "[solver]\ncreep_softening = 0.5\n", {"solver.creep_softening", "0.5"}},
+        ErrorCase{"CreepSofteningTooLarge", "[solver]\ncreep_softening = 1e5\n", {"solver.creep_softening", "100000"}},
         ErrorCase{"NegativeClothSize", "[cloth]\nsize_m = [-1.0, 1.0]\n", {"cloth.size_m", "positive"}},
         ErrorCase{"ZeroCylinderHeight",
                   cube_scene("", "[[obstacle]]\ntype = \"cylinder\"\nbase_m = [3, 3, 0]\nradius_m = 0.1\nheight_m = 0\n"),

@@ -111,6 +111,7 @@ nlohmann::json drape_report(const DrapeReportInput& in)
     if (in.solver->kind == sim::SolverKind::FAST) {
         j["factorizations"] = r.factorizations;
         j["cg_iterations"] = r.cg_iterations;
+        j["creep_softening"] = in.solver->fast.creep_softening;
         j["softened_steps"] = r.softened_steps;
     }
     j["simulated_time_s"] = num(r.simulated_time);

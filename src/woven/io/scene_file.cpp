@@ -185,6 +185,7 @@ void parse_solver(const TomlTable& t, sim::SolverOptions& o)
     o.friction = t.number("friction", Range{0, 10, false, ""}, o.friction);
     o.threads = static_cast<int>(t.integer("threads", 0, kMaxThreads, o.threads));
     o.perturbation = t.number("perturbation_m", Range{0, kMaxPerturbation_m, false, "m"}, o.perturbation);
+    o.fast.creep_softening = t.number("creep_softening", Range{1, kMaxCreepSoftening, false, ""}, o.fast.creep_softening);
 }
 
 void parse_model(const TomlTable& t, model::ModelOptions& o)

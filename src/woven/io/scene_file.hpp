@@ -27,6 +27,7 @@ inline constexpr double kMinSigma_m = 1e-4;         ///< smallest particle spaci
 inline constexpr double kMaxContactFraction = 1.0;  ///< largest contact distance / sigma
 inline constexpr int kMaxThreads = 4096;            ///< largest thread count asked for
 inline constexpr double kMaxPerturbation_m = 0.01;  ///< largest start perturbation (m)
+inline constexpr double kMaxCreepSoftening = 1e4;   ///< largest creep continuation softening (threads that much softer)
 
 /// The cloth's starting state: a flat nu x nv grid of particles, spacing sigma, at a height.
 struct ClothSpec {
