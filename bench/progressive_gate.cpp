@@ -12,7 +12,9 @@
 // Common: --scene cube --threads 1 --h0 S (the polish's first step, s; default the largest
 // step, 20 s: static from the start) --compare STATE (a state of the same grid: displacement)
 // --soft-start (the polish starts in the creep's softened threads, FastSolverOptions::creep_softening)
-// --contact-distance M (the barrier's d^, m: a coarse drape held off the obstacles) --no-polish (the start's measures only) --relax N (N length-restoring sweeps after the push-out).
+// --contact-distance M (the barrier's d^, m: a coarse drape held off the obstacles)
+// --no-polish (the start's measures only) --save-start F (the start after the push-out to F,
+// before it to F.raw) --relax N (N length-restoring sweeps after the push-out).
 // The scene's fabric and model; the seed only sets the direct drape's start perturbation (the
 // polish starts unperturbed).
 #include <algorithm>
@@ -388,6 +390,7 @@ int main(int argc, char** argv)
             row["prolong_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         } else if (mode == "restrict") {
             x0 = restrict_state(start).x;
+            if (!save_start.empty()) save_state(save_start + ".raw", State{s.grid().nu, s.grid().nv, x0});
             row["pushed_out"] = push_out(s.scene.obstacles, x0, s.scene.solver.contact_distance);
         } else {
             x0 = s.problem.initial;
