@@ -8,7 +8,9 @@
 // counter-clockwise seen from +z for a flat grid laid out as model::flat_grid lays it out.
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "woven/analysis/vertex_fields.hpp"
 #include "woven/common/types.hpp"
 
 namespace woven::io {
@@ -29,9 +31,15 @@ Positions cloth_normals(const Positions& x, int nu, int nv);
 /// three arrays share particle order). Throws InputError if x.size() != nu * nv or nu, nv < 2.
 std::string cloth_obj(const Positions& x, int nu, int nv);
 
-/// The cloth grid as ASCII PLY 1.0: vertex properties x y z nx ny nz u v (float, m; u, v as in
-/// cloth_obj) and `3 a b c` triangle faces (0-based), the same triangles as cloth_obj. Comments
-/// give the units and the grid. Throws InputError if x.size() != nu * nv or nu, nv < 2.
-std::string cloth_ply(const Positions& x, int nu, int nv);
+/// PLY's two encodings: binary little-endian (compact, exact) or ASCII (readable).
+enum class PlyFormat { BINARY, ASCII };
+
+/// The cloth grid as PLY 1.0: vertex properties x y z (double, m), nx ny nz u v (float; u, v as in
+/// cloth_obj), then one float property per field (its name; the header's comments give each
+/// unit), and `3 a b c` triangle faces (uchar count, int indices, 0-based), the same triangles as
+/// cloth_obj. Comments give the units and the grid. Throws InputError if x.size() != nu * nv,
+/// nu, nv < 2 or a field does not have one value per particle.
+std::string cloth_ply(const Positions& x, int nu, int nv, const std::vector<analysis::VertexField>& fields = {},
+                      PlyFormat format = PlyFormat::BINARY);
 
 }  // namespace woven::io
