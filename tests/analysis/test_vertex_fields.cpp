@@ -75,10 +75,10 @@ TEST(VertexFields, WeftThreadsOnACylinderHaveItsCurvatureAndChordStrain)
         }
     const auto f = analysis::vertex_fields(model, geometry::ObstacleSet{}, x, 1e-3);
     // theta = pi - sigma/R at every inner particle: K = (2/sigma) cos(theta/2) = (2/sigma) sin(sigma/2R),
-    // 1/R to second order; the chord 2R sin(sigma/2R) is the segment's length.
+    // (1/R)(1 - (sigma/R)^2 / 24 + O((sigma/R)^4)); the chord 2R sin(sigma/2R) is the segment's length.
     const double K = 2.0 / kSigma * std::sin(kSigma / (2 * R));
     const double chord_strain = 2 * R / kSigma * std::sin(kSigma / (2 * R)) - 1;
-    EXPECT_NEAR(K, 1 / R, 1e-3 / R);
+    EXPECT_NEAR(K, (1 - (kSigma / R) * (kSigma / R) / 24) / R, 1e-5 / R);
     for (int j = 0; j < kNv; ++j)
         for (int i = 0; i < kNu; ++i) {
             const int p = i + kNu * j;

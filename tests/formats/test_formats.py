@@ -80,11 +80,14 @@ def schemas(woven, schema_dir, work):
 
     report, cusick, kes = load("report.schema.json"), load("cusick.schema.json"), load("kes-report.schema.json")
     d = drape(woven, work, "d")
+    # The cube (the paper's box): a report with its corner folds.
+    run([woven, "drape", "cube", "--grid", "11", "--max-steps", "10", "--threads", "1", "--no-render", "--out", "cube"], work)
     run([woven, "fit", "cotton", "--out", "fit"], work)
     run([woven, "cusick", "silk", "--specimen-cm", "12", "--disc-cm", "6", "--spacing-cm", "1", "--seeds", "2",
          "--no-render", "--threads", "1", "--out", "c"], work)
     run([woven, "kes-test", "cotton", "--test", "bending", "--direction", "warp", "--out", "k"], work)
-    cases = [(report, os.path.join(d, "report.json")), (report, os.path.join(work, "fit", "report.json")),
+    cases = [(report, os.path.join(d, "report.json")), (report, os.path.join(work, "cube", "report.json")),
+             (report, os.path.join(work, "fit", "report.json")),
              (cusick, os.path.join(work, "c", "cusick.json")), (kes, os.path.join(work, "k", "kes-report.json"))]
     for validator, path in cases:
         with open(path) as f:
@@ -118,6 +121,13 @@ def schemas(woven, schema_dir, work):
     del c["runs"]
     if cusick.is_valid(c):
         fail("cusick.schema.json accepts a report without runs")
+    with open(os.path.join(work, "cube", "report.json")) as f:
+        cube = json.load(f)
+    if not isinstance(cube["folds"], dict):
+        fail("the cube's report has no folds")
+    cube["folds"]["corners"].pop()
+    if report.is_valid(cube):
+        fail("report.schema.json accepts folds with three corners")
     print("ok: altered reports are rejected")
 
 
@@ -160,19 +170,65 @@ def meshes(woven, work):
         fail(f"contact flag: {np.unique(contact)} (the cloth lies on a sphere: some particles touch it)")
     print(f"ok: meshio reads 81 points, bounds {lo} {hi}, fields {FIELDS}")
 
-    # assimp: the glTF's cloth and obstacle meshes. glTF is y-up: woven (x, y, z) is (x, z, -y).
-    r = run(["assimp", "info", os.path.join(binary, "drape.glb")], work)
-    text = r.stdout
-    m = re.search(r"Meshes:\s+(\d+)", text)
-    if not m or int(m.group(1)) != 3:
-        fail(f"assimp: expected 3 meshes (cloth, plane, sphere):\n{text}")
-    # assimp joins identical vertices; count the cloth's own from its mesh listing when given,
-    # else check the scene's bounds, which hold every node.
-    mn = re.search(r"Minimum point\s+\(([^)]*)\)", text)
-    mx = re.search(r"Maximum point\s+\(([^)]*)\)", text)
-    if not mn or not mx:
-        fail(f"assimp info gives no bounds:\n{text}")
-    print("ok: assimp reads drape.glb: " + " ".join(l.strip() for l in text.splitlines() if "Meshes" in l or "point" in l))
+    # assimp (its own glTF importer): the cloth mesh has drape.obj's vertices and 2 triangles per
+    # cell, and each obstacle is a mesh of its own.
+    text = run(["assimp", "info", os.path.join(binary, "drape.glb")], work).stdout
+    listed = dict(re.findall(r"^\s*\d+ \(([^)]*)\): \[(\d+ / \d+ / \d+)", text, re.M))
+    if listed.get("cloth") != "81 / 0 / 128":
+        fail(f"assimp: the cloth mesh is {listed.get('cloth')}, expected 81 vertices, 128 faces:\n{text}")
+    if sorted(listed) != ["cloth", "obstacle 0 plane", "obstacle 1 sphere"]:
+        fail(f"assimp: meshes {sorted(listed)}")
+    print(f"ok: assimp reads drape.glb: {listed}")
+
+    # The GLB read here (its JSON and binary chunks, glTF 2.0 spec 4.4): the cloth's bounds in
+    # glTF's y-up axes are drape.obj's (x, z, -y), and its fields are the PLY's.
+    glb = read_glb(os.path.join(binary, "drape.glb"))
+    gltf, blob = glb
+    prim = gltf["meshes"][gltf["nodes"][0]["mesh"]]["primitives"][0]
+    pos = accessor(gltf, blob, prim["attributes"]["POSITION"]).reshape(-1, 3)
+    if pos.shape != (81, 3):
+        fail(f"GLB: {pos.shape} positions")
+    expect_lo, expect_hi = [lo[0], lo[2], -hi[1]], [hi[0], hi[2], -lo[1]]
+    if not close(pos.min(axis=0), expect_lo, 1e-6) or not close(pos.max(axis=0), expect_hi, 1e-6):
+        fail(f"GLB bounds {pos.min(axis=0)} {pos.max(axis=0)}, expected {expect_lo} {expect_hi}")
+    acc = gltf["accessors"][prim["attributes"]["POSITION"]]
+    if not close(acc["min"], expect_lo, 1e-6) or not close(acc["max"], expect_hi, 1e-6):
+        fail(f"GLB accessor bounds {acc['min']} {acc['max']}")
+    for field in FIELDS:
+        values = accessor(gltf, blob, prim["attributes"]["_" + field.upper()])
+        if not np.array_equal(values, mb.point_data[field].astype(np.float32)):
+            fail(f"GLB {field} differs from the PLY's")
+    print(f"ok: drape.glb read here: bounds {expect_lo} {expect_hi} (y-up), the PLY's fields")
+
+
+def read_glb(path):
+    """The JSON and the binary chunk of a GLB file."""
+    import struct
+    with open(path, "rb") as f:
+        data = f.read()
+    magic, version, length = struct.unpack_from("<4sII", data, 0)
+    if magic != b"glTF" or version != 2 or length != len(data):
+        fail(f"{path}: not a glTF 2.0 binary ({magic}, {version}, {length} of {len(data)} bytes)")
+    n, kind = struct.unpack_from("<I4s", data, 12)
+    if kind != b"JSON":
+        fail(f"{path}: first chunk {kind}")
+    gltf = json.loads(data[20:20 + n])
+    m, kind = struct.unpack_from("<I4s", data, 20 + n)
+    if kind != b"BIN\0":
+        fail(f"{path}: second chunk {kind}")
+    return gltf, data[28 + n:28 + n + m]
+
+
+def accessor(gltf, blob, index):
+    """A float accessor's values (tightly packed, as woven writes them)."""
+    import numpy as np
+    a = gltf["accessors"][index]
+    if a["componentType"] != 5126:
+        fail(f"accessor {index} is not float")
+    width = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[a["type"]]
+    v = gltf["bufferViews"][a["bufferView"]]
+    start = v.get("byteOffset", 0) + a.get("byteOffset", 0)
+    return np.frombuffer(blob, dtype="<f4", count=a["count"] * width, offset=start)
 
 
 def check(woven, work):

@@ -106,9 +106,16 @@ TEST(Gltf, ClothAndObstaclesRoundTripThroughTinygltfsLoader)
     EXPECT_NEAR(pos_acc.maxValues[1], 0.53, 1e-7);
     EXPECT_NEAR(pos_acc.minValues[2], 0.0, 1e-7);
     EXPECT_NEAR(pos_acc.maxValues[2], 0.2, 1e-7);
-    // Normals: a flat cloth's are +z, glTF's +y.
+    // Normals: cloth_normals's, turned as the positions (the far corner's, away from the lifted
+    // particle, is +z: glTF's +y).
     const auto nrm = floats(m, cloth.attributes.at("NORMAL"));
-    EXPECT_FLOAT_EQ(nrm[1], 1.0f);
+    const Positions n = io::cloth_normals(x, kNu, kNv);
+    for (int p = 0; p < kNu * kNv; ++p) {
+        EXPECT_FLOAT_EQ(nrm[3 * p + 0], static_cast<float>(n[p].x()));
+        EXPECT_FLOAT_EQ(nrm[3 * p + 1], static_cast<float>(n[p].z()));
+        EXPECT_FLOAT_EQ(nrm[3 * p + 2], static_cast<float>(-n[p].y()));
+    }
+    EXPECT_FLOAT_EQ(nrm[3 * (kNu * kNv - 1) + 1], 1.0f);
     // Texture coordinates: (u, 1 - v), u along the weft (i), v along the warp (j).
     const auto uv = floats(m, cloth.attributes.at("TEXCOORD_0"));
     EXPECT_FLOAT_EQ(uv[2 * (kNu - 1) + 0], 1.0f);

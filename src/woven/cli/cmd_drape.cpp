@@ -1,4 +1,4 @@
-// woven drape [SCENE]: drape a cloth over a scene's obstacles and write drape.obj, drape.ply,
+// woven drape [SCENE]: drape a cloth over a scene's obstacles and write drape.obj, drape.ply, drape.glb,
 // drape.png and report.json.
 #include <cmath>
 #include <optional>
