@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "woven/analysis/vertex_fields.hpp"
+#include "woven/common/error.hpp"
 #include "woven/io/gltf_file.hpp"
 #include "woven/io/surface_file.hpp"
 
@@ -29,6 +30,12 @@ void add_drape_meshes(OutputSet& set, const DrapeMeshes& d)
         meshes.push_back(std::move(cloth));
     } else {
         const auto fields = analysis::vertex_fields(*d.model, *d.obstacles, *d.x, d.contact_distance, d.friction).list();
+        // As every number of a run's outputs: none non-finite (run_checks.hpp's rule).
+        for (const auto& f : fields)
+            for (std::size_t p = 0; p < f.values.size(); ++p)
+                if (!std::isfinite(f.values[p]))
+                    throw RuntimeError("the drape ended with a non-finite " + f.name + " at particle " + std::to_string(p) +
+                                       "; no outputs written");
         set.add("drape.obj", cloth_obj(*d.x, grid.nu, grid.nv));
         set.add("drape.ply", cloth_ply(*d.x, grid.nu, grid.nv, fields, d.ply));
         meshes.push_back(cloth_gltf_mesh(*d.x, grid.nu, grid.nv, fields));

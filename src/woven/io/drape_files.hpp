@@ -35,7 +35,8 @@ struct DrapeMeshes {
 };
 
 /// Adds drape.obj, drape.ply (the grid; not for a cut cloth) and drape.glb (the cloth and the
-/// obstacles, gltf_file.hpp) to `set`.
+/// obstacles, gltf_file.hpp) to `set`. RuntimeError when a field is not finite (nothing is added
+/// then but what was before it; the set is not published).
 void add_drape_meshes(OutputSet& set, const DrapeMeshes& d);
 
 }  // namespace woven::io
