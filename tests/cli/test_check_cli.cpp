@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_support.hpp"
+#include "woven/io/sha256.hpp"
 
 namespace fs = std::filesystem;
 using woven::test::kTinyScene;
@@ -135,4 +136,18 @@ TEST_F(Check, AFinishedFolderPassesAndEachDamageIsFound)
     const Outcome none = woven("check res");
     EXPECT_EQ(none.code, 2);
     EXPECT_EQ(none.err, "woven: error: res: manifest: no report.json, cusick.json or kes-report.json (not a finished woven output folder)\n");
+}
+
+TEST_F(Check, AGlbThatDoesNotLoadIsFoundEvenWithItsChecksumInTheManifest)
+{
+    drape();
+    const std::string broken = slurp(dir_ / "res" / "drape.glb").substr(0, 100);
+    write(dir_ / "res" / "drape.glb", broken);
+    auto j = nlohmann::json::parse(slurp(dir_ / "res" / "report.json"));
+    j["files"]["drape.glb"] = {{"bytes", broken.size()}, {"sha256", woven::io::sha256_hex(broken)}};
+    write(dir_ / "res" / "report.json", j.dump(2));
+    const Outcome r = woven("check res");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_EQ(r.err.rfind("woven: error: res/drape.glb: glb: does not load as glTF 2.0 binary", 0), 0u) << r.err;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
 }

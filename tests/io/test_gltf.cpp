@@ -150,6 +150,20 @@ TEST(Gltf, MismatchedArraysAreRefused)
     EXPECT_EQ(io::gltf_attribute("trellis_angle"), "_TRELLIS_ANGLE");
 }
 
+TEST(Gltf, CheckGlbReadsWhatTheWriterWritesAndRefusesTheRest)
+{
+    const std::string glb = io::scene_glb({io::cloth_gltf_mesh(grid(), kNu, kNv, fields())});
+    EXPECT_EQ(io::check_glb(glb, "d/drape.glb"), 1);
+    for (const std::string bad : {glb.substr(0, glb.size() / 2), std::string("glTF"), std::string()}) {
+        try {
+            io::check_glb(bad, "d/drape.glb");
+            ADD_FAILURE() << "accepted " << bad.size() << " bytes";
+        } catch (const InputError& e) {
+            EXPECT_EQ(std::string(e.what()).rfind("d/drape.glb: glb: does not load as glTF 2.0 binary", 0), 0u) << e.what();
+        }
+    }
+}
+
 TEST(ClothPlyFields, BinaryAndAsciiHoldTheSameValues)
 {
     const Positions x = grid();

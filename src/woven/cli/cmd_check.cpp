@@ -25,6 +25,7 @@
 #include "woven/cli/run_checks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
+#include "woven/io/gltf_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/io/sha256.hpp"
@@ -111,7 +112,7 @@ void non_finite(const nlohmann::json& j, const std::string& path, std::vector<st
 bool plain_name(const std::string& n) { return !n.empty() && n != "." && n != ".." && n.find('/') == std::string::npos; }
 
 /// Checks one file the manifest lists: present, a regular file, and (when given) its size and
-/// SHA-256; an OBJ also reads.
+/// SHA-256; an OBJ or a GLB also reads.
 void check_listed(const fs::path& dir, const std::string& manifest, const std::string& name, const nlohmann::json* entry,
                   Findings& f)
 {
@@ -141,12 +142,11 @@ void check_listed(const fs::path& dir, const std::string& manifest, const std::s
         else if ((*entry)["sha256"].get<std::string>() != io::sha256_hex(*data))
             f.problem(shown + ": sha256: differs from " + manifest + "'s (the file changed after the run)");
     }
-    if (name.ends_with(".obj")) {
-        try {
-            (void)io::parse_obj_mesh(*data, shown);
-        } catch (const InputError& e) {
-            f.problem(e.what());
-        }
+    try {
+        if (name.ends_with(".obj")) (void)io::parse_obj_mesh(*data, shown);
+        if (name.ends_with(".glb")) (void)io::check_glb(*data, shown);
+    } catch (const InputError& e) {
+        f.problem(e.what());
     }
 }
 
@@ -255,7 +255,7 @@ void add_check_command(CLI::App& app, int& exit_code)
     sub->footer("A .toml file is read as a fabric or a scene (a scene's fabric and mesh files too) by the readers the other "
                 "commands use, with their messages and warnings; an .obj file as an obstacle mesh; a folder as a finished "
                 "output set: its manifest (report.json, cusick.json or kes-report.json) parses, every file it lists is there "
-                "with its size and SHA-256, and its numbers are finite. One line per problem on stderr; exit 0 when all is "
+                "with its size and SHA-256, its numbers are finite and its OBJ and GLB meshes read. One line per problem on stderr; exit 0 when all is "
                 "well, 2 otherwise.");
     sub->add_option("FILE|DIR", o->paths, "Files and output folders to check")->required();
     sub->callback([o, &exit_code] { exit_code = run_check(*o); });

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -171,6 +172,28 @@ std::string scene_glb(const std::vector<GltfMesh>& meshes)
     tinygltf::TinyGLTF writer;
     if (!writer.WriteGltfSceneToStream(&m, out, false, true)) throw RuntimeError("glTF output: tinygltf could not write the scene");
     return out.str();
+}
+
+int check_glb(std::string_view data, const std::string& source)
+{
+    tinygltf::Model m;
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    if (!loader.LoadBinaryFromMemory(&m, &err, &warn, reinterpret_cast<const unsigned char*>(data.data()),
+                                     static_cast<unsigned int>(data.size())))
+        throw InputError(source, "glb", "does not load as glTF 2.0 binary (" + (err.empty() ? std::string("tinygltf") : err) + ")");
+    if (m.meshes.empty()) throw InputError(source, "glb", "has no mesh");
+    for (const auto& mesh : m.meshes)
+        for (const auto& prim : mesh.primitives) {
+            const auto it = prim.attributes.find("POSITION");
+            if (it == prim.attributes.end() || it->second < 0 || it->second >= static_cast<int>(m.accessors.size()))
+                throw InputError(source, "glb", "mesh '" + mesh.name + "' has no POSITION");
+            const auto& a = m.accessors[it->second];
+            bool finite = a.minValues.size() == 3 && a.maxValues.size() == 3;
+            for (std::size_t c = 0; finite && c < 3; ++c) finite = std::isfinite(a.minValues[c]) && std::isfinite(a.maxValues[c]);
+            if (!finite) throw InputError(source, "glb", "mesh '" + mesh.name + "': POSITION bounds missing or not finite");
+        }
+    return static_cast<int>(m.meshes.size());
 }
 
 GltfMesh cloth_gltf_mesh(const Positions& x, int nu, int nv, const std::vector<analysis::VertexField>& fields)

@@ -9,6 +9,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "woven/analysis/vertex_fields.hpp"
@@ -39,6 +40,11 @@ std::string gltf_attribute(const std::string& field_name);
 /// The asset's "extras" give the axis conversion and each field's unit. Throws InputError when
 /// an array's length does not match the vertices or a face indexes past them.
 std::string scene_glb(const std::vector<GltfMesh>& meshes);
+
+/// Reads a GLB back with tinygltf's loader: InputError "<source>: glb: <what>" when it does not
+/// load, has no mesh, or a POSITION accessor whose bounds are missing or not finite. Returns the
+/// number of meshes.
+int check_glb(std::string_view data, const std::string& source);
 
 /// The cloth grid (nu x nv, triangles and (u, v) as io::cloth_obj's) with cloth_normals, and
 /// `fields` (one value per particle each).
