@@ -37,7 +37,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The problems found so far (one line each) and the arguments found sound.
+/// The problems found so far, one line each.
 struct Findings {
     std::vector<std::string> problems;
     void problem(const std::string& line) { problems.push_back(line); }

@@ -15,9 +15,6 @@
 
 namespace woven::io {
 
-/// The files of the set add_drape_meshes can write.
-inline const std::vector<std::string> kDrapeMeshFiles = {"drape.obj", "drape.ply", "drape.glb"};
-
 struct DrapeMeshes {
     const Positions* x = nullptr;  ///< the drape, one position per grid particle (m)
     const model::ClothModel* model = nullptr;

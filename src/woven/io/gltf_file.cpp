@@ -202,12 +202,7 @@ GltfMesh cloth_gltf_mesh(const Positions& x, int nu, int nv, const std::vector<a
     g.name = "cloth";
     g.normals = cloth_normals(x, nu, nv);  // checks the grid
     g.mesh.vertices.assign(x.begin(), x.end());
-    for (int j = 0; j + 1 < nv; ++j)
-        for (int i = 0; i + 1 < nu; ++i) {
-            const int a = i + nu * j, b = a + 1, c = a + 1 + nu, d = a + nu;
-            g.mesh.faces.emplace_back(a, b, c);
-            g.mesh.faces.emplace_back(a, c, d);
-        }
+    for (const auto& t : grid_triangles(nu, nv)) g.mesh.faces.emplace_back(t[0], t[1], t[2]);
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) g.uv.emplace_back(double(i) / (nu - 1), double(j) / (nv - 1));
     g.fields = fields;

@@ -45,7 +45,8 @@ void check_grid(const Positions& x, int nu, int nv, const char* what)
                          strf("%zu positions do not form a %d x %d grid (need nu, nv >= 2)", x.size(), nu, nv));
 }
 
-/// The two triangles of every grid cell, in the order of the header comment.
+}  // namespace
+
 std::vector<std::array<int, 3>> grid_triangles(int nu, int nv)
 {
     std::vector<std::array<int, 3>> t;
@@ -58,8 +59,6 @@ std::vector<std::array<int, 3>> grid_triangles(int nu, int nv)
         }
     return t;
 }
-
-}  // namespace
 
 void write_file_atomic(const std::string& path, std::string_view contents)
 {

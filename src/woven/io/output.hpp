@@ -6,6 +6,7 @@
 // (i, j)-(i+1, j)-(i+1, j+1)-(i, j+1) gives two triangles,
 //   (i, j) (i+1, j) (i+1, j+1)   and   (i, j) (i+1, j+1) (i, j+1),
 // counter-clockwise seen from +z for a flat grid laid out as model::flat_grid lays it out.
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +20,9 @@ namespace woven::io {
 /// folder (".woven-tmp.<pid>.a<n>.<name>"), which is then renamed over `path` (no fsync). On any failure the temporary file is removed and RuntimeError is
 /// thrown; `path` is never left holding a partial file.
 void write_file_atomic(const std::string& path, std::string_view contents);
+
+/// The two triangles of every grid cell, in the order of the header comment (0-based).
+std::vector<std::array<int, 3>> grid_triangles(int nu, int nv);
 
 /// Per-vertex unit normals of the cloth grid: the area-weighted sum of the normals of the
 /// triangles (see the header comment) around each particle. Degenerate neighbourhoods get +z.
