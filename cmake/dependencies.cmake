@@ -4,6 +4,8 @@ find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(tinyobjloader REQUIRED)
+# tinygltf (drape.glb): Debian builds the header-only library as libtinygltf (on nlohmann-json and stb).
+find_package(TinyGLTF REQUIRED)
 find_package(embree 3 REQUIRED)
 find_package(OpenMP REQUIRED)
 find_package(Threads REQUIRED)

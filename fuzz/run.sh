@@ -7,10 +7,10 @@ build=${1:?usage: run.sh BUILD [SECONDS] [TARGETS...]}
 seconds=${2:-60}
 shift $(( $# >= 2 ? 2 : $# ))
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj)
+[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf)
 root=$(cd "$(dirname "$0")/.." && pwd)
-declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets")
-declare -A dicts=([fabric]="$root/fuzz/toml.dict" [scene]="$root/fuzz/toml.dict" [obj]="$root/fuzz/obj.dict")
+declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets" [gltf]="$root/assets $root/fuzz/corpus/obj")
+declare -A dicts=([fabric]="$root/fuzz/toml.dict" [scene]="$root/fuzz/toml.dict" [obj]="$root/fuzz/obj.dict" [gltf]="$root/fuzz/obj.dict")
 status=0
 for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"
@@ -19,7 +19,7 @@ for t in "${targets[@]}"; do
   log="$build/fuzz-$t.log"
   "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=16384 \
     -dict="${dicts[$t]}" -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
-    "$work" "$root/fuzz/corpus/$t" "${seeds[$t]}" > "$log" 2>&1 || { status=1; grep -A3 "ERROR\|deadly\|Test unit" "$log" >&2; }
+    "$work" "$root/fuzz/corpus/$t" ${seeds[$t]} > "$log" 2>&1 || { status=1; grep -A3 "ERROR\|deadly\|Test unit" "$log" >&2; }
   # The last coverage line and the final counts (the whole log is in $log).
   grep -E "^#[0-9]+" "$log" | tail -n 1 >&2
   grep -E "^stat::(number_of_executed_units|average_exec_per_sec|new_units_added|peak_rss_mb)" "$log" >&2

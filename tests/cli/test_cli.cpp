@@ -217,18 +217,18 @@ TEST_F(Cli, DrapeTinySceneWritesEverything)
     write(dir_ / "tiny.toml", kTinyScene);
     const Outcome r = woven("drape tiny.toml --out res --max-steps 40 --width 160 --height 120 --threads 1");
     ASSERT_EQ(r.code, 0) << r.err;
-    for (const char* f : {"drape.obj", "drape.ply", "drape.png", "report.json"}) {
+    for (const char* f : {"drape.obj", "drape.ply", "drape.glb", "drape.png", "report.json"}) {
         ASSERT_TRUE(fs::exists(dir_ / "res" / f)) << f;
         EXPECT_GT(fs::file_size(dir_ / "res" / f), 0u) << f;
     }
-    EXPECT_EQ(count_entries("res"), 4);  // no temporary files left
+    EXPECT_EQ(count_entries("res"), 5);  // no temporary files left
     EXPECT_EQ(slurp(dir_ / "res" / "drape.ply").substr(0, 4), "ply\n");
 
     const auto j = nlohmann::json::parse(slurp(dir_ / "res" / "report.json"));
     for (const char* key : {"version", "scene", "fabric", "grid", "sigma_m", "solver", "seed", "converged",
                             "interrupted", "steps", "iterations", "simulated_time_s", "wall_time_s", "energy",
                             "energy_initial_J", "equilibrium", "contact", "strain", "bbox", "particle_mass_kg", "C0_J",
-                            "shear_scale", "kes"})
+                            "shear_scale", "model", "kes"})
         EXPECT_TRUE(j.contains(key)) << key;
     for (const char* key : {"repulsion_J", "stretch_J", "bending_warp_J", "bending_weft_J", "trellis_J", "gravity_J",
                             "total_J"})

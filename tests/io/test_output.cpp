@@ -94,7 +94,7 @@ TEST(ClothObj, RejectsMismatchedGrid)
 
 TEST(ClothPly, HeaderCountsAndIndicesOfA3x3Grid)
 {
-    const std::string ply = io::cloth_ply(grid3(), 3, 3);
+    const std::string ply = io::cloth_ply(grid3(), 3, 3, {}, io::PlyFormat::ASCII);
     std::istringstream in(ply);
     std::string line;
     std::getline(in, line);

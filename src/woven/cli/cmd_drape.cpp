@@ -1,4 +1,4 @@
-// woven drape [SCENE]: drape a cloth over a scene's obstacles and write drape.obj, drape.ply,
+// woven drape [SCENE]: drape a cloth over a scene's obstacles and write drape.obj, drape.ply, drape.glb,
 // drape.png and report.json.
 #include <cmath>
 #include <optional>
@@ -17,6 +17,7 @@
 #include "woven/cli/run_checks.hpp"
 #include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
+#include "woven/io/drape_files.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
@@ -91,8 +92,8 @@ int run_drape(const DrapeOptions& options)
 
     // 2. The output directory, before the (long) solve, so that a bad --out fails early.
     make_output_dir(out_dir);
-    check_output_targets(out_dir, {"drape.obj", "drape.ply", "drape.png", "report.json"});
-    io::OutputSet set(out_dir, {"drape.obj", "drape.ply", "drape.png"});
+    check_output_targets(out_dir, {"drape.obj", "drape.ply", "drape.glb", "drape.png", "report.json"});
+    io::OutputSet set(out_dir, {"drape.obj", "drape.ply", "drape.glb", "drape.png"});
 
     // 3. Drape.
     install_interrupt_handler();
@@ -118,11 +119,11 @@ int run_drape(const DrapeOptions& options)
         cut_surface->mesh = model::cut_surface(grid, *cut, result.x, &uv);
         cut_surface->uv.assign(uv.begin(), uv.end());
         cut_surface->spacing_m = grid.sigma;
-        set.add("drape.obj", io::surface_obj(cut_surface->mesh, uv, "drape of a cloth cut to its outline, scene " + scene.name));
-    } else {
-        set.add("drape.obj", io::cloth_obj(result.x, grid.nu, grid.nv));
-        set.add("drape.ply", io::cloth_ply(result.x, grid.nu, grid.nv));
     }
+    io::add_drape_meshes(set, {&result.x, &model, &scene.obstacles, scene.solver.contact_distance, scene.solver.friction,
+                               options.ply_ascii ? io::PlyFormat::ASCII : io::PlyFormat::BINARY,
+                               cut ? &cut_surface->mesh : nullptr, cut ? &cut_surface->uv : nullptr,
+                               "drape of a cloth cut to its outline, scene " + scene.name, fabric.color});
     if (!options.no_render && !interrupt_requested()) {
         render::write_png(render_drape(result.x, grid, scene, fabric, width, height, cut_surface ? &*cut_surface : nullptr),
                           set.temp_path("drape.png"));
@@ -134,6 +135,7 @@ int run_drape(const DrapeOptions& options)
     in.fabric = fabric.name.empty() ? scene.fabric : fabric.name;
     in.fabric_data = &fabric;
     in.model = &model;
+    in.model_options = &scene.model;
     in.obstacles = &scene.obstacles;
     in.solver = &scene.solver;
     in.result = &result;
@@ -171,7 +173,7 @@ void add_drape_command(CLI::App& app, int& exit_code)
 {
     auto o = std::make_shared<DrapeOptions>();
     CLI::App* sub = app.add_subcommand("drape", "Drape a cloth over a scene's obstacles to static equilibrium");
-    sub->footer("Writes drape.obj, drape.ply, drape.png and report.json (last, naming every file with its SHA-256) "
+    sub->footer("Writes drape.obj, drape.ply (with per-vertex fields), drape.glb (glTF 2.0, y-up), drape.png and report.json (last, naming every file with its SHA-256) "
                 "to --out. Ctrl-C (SIGINT) or SIGTERM stops after the current step, writes the state reached and exits "
                 "with 130 or 143 (a second signal quits at once, leaving the previous outputs as they were).");
     sub->add_option("SCENE", o->scene, "A built-in scene name (see `woven scenes`) or a scene .toml file")
@@ -187,6 +189,7 @@ void add_drape_command(CLI::App& app, int& exit_code)
                     "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)");
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
+    sub->add_flag("--ply-ascii", o->ply_ascii, "Write drape.ply as ASCII PLY (default: binary little-endian)");
     sub->add_option("--width", o->width, "Picture width, pixels")->capture_default_str();
     sub->add_option("--height", o->height, "Picture height, pixels")->capture_default_str();
     sub->callback([o, &exit_code] { exit_code = run_drape(*o); });

@@ -46,8 +46,14 @@ struct DrapeOptions {
     std::optional<std::string> perturb;
     std::string out = "out";
     bool no_render = false;
+    bool ply_ascii = false;
     std::string width = "1024";
     std::string height = "768";
+};
+
+/// `woven check FILE|DIR...` (cmd_check.cpp).
+struct CheckOptions {
+    std::vector<std::string> paths;
 };
 
 /// Adds each subcommand to `app`; the callback stores the exit code in `exit_code`.
@@ -59,11 +65,16 @@ void add_drape_command(CLI::App& app, int& exit_code);
 void add_render_command(CLI::App& app, int& exit_code);      // cmd_render.cpp
 void add_cusick_command(CLI::App& app, int& exit_code);      // cmd_cusick.cpp
 void add_experiment_command(CLI::App& app, int& exit_code);  // cmd_experiment.cpp
+void add_check_command(CLI::App& app, int& exit_code);       // cmd_check.cpp
 
 int run_fabrics(const FabricsOptions& options);
 int run_scenes(const ScenesOptions& options);
 int run_fit(const FitOptions& options);
 int run_drape(const DrapeOptions& options);
+int run_check(const CheckOptions& options);
+
+/// `s` with its control characters written as \xNN, so that a message stays one line (main.cpp).
+std::string one_line(const std::string& s);
 
 /// Prints "woven: warning: <w>" on stderr for each warning.
 void print_warnings(const std::vector<std::string>& warnings);

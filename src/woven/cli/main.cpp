@@ -110,6 +110,7 @@ int main(int argc, char** argv)
     add_cusick_command(app, exit_code);
 #endif
     add_experiment_command(app, exit_code);
+    add_check_command(app, exit_code);
 
     try {
         // CLI11 reports a mistyped command as "A subcommand is required"; name it instead.

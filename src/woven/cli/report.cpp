@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "woven/common/units.hpp"
+
 namespace woven::cli {
 
 KesValues kes_values(const kes::FabricData& f)
@@ -83,6 +85,21 @@ nlohmann::json energy_json(const model::EnergyTerms& e)
 
 }  // namespace
 
+nlohmann::json model_json(const model::ClothModel& model, const model::ModelOptions& o)
+{
+    const bool convergent = model.discretization() == model::Discretization::CONVERGENT;
+    return {{"discretization", convergent ? "convergent" : "paper"},
+            {"bending_form", o.bending_form == model::BendingForm::WORK ? "work" : "secant"},
+            {"shear_law", o.shear_law == model::ShearLaw::MEASURED ? "measured" : "deembedded"},
+            {"shear_scale", model.shear_scale()},
+            {"gram_force", o.gram_force == units::GramForce::PAPER ? "paper" : "standard"},
+            {"dyn_per_gram_force", units::dyn_per_gram_force(o.gram_force)},
+            {"tensile_stiffness_N_m", convergent ? model.spacing().tensile : 0.0},
+            {"C0_J", model.spacing().C0},
+            {"gravity_m_s2", model.gravity()},
+            {"sigma_m", model.sigma()}};
+}
+
 nlohmann::json drape_report(const DrapeReportInput& in)
 {
     const auto& model = *in.model;
@@ -133,6 +150,7 @@ nlohmann::json drape_report(const DrapeReportInput& in)
     j["gravity_m_s2"] = model.gravity();
     j["C0_J"] = model.spacing().C0;
     j["shear_scale"] = model.shear_scale();
+    if (in.model_options) j["model"] = model_json(model, *in.model_options);
     j["kes"] = {{"W_mg_cm2", kv.W},
                 {"B_warp_gf_cm2_cm", kv.B_warp},
                 {"B_weft_gf_cm2_cm", kv.B_weft},

@@ -47,6 +47,7 @@ struct DrapeReportInput {
     std::string fabric;         ///< fabric name
     const kes::FabricData* fabric_data = nullptr;
     const model::ClothModel* model = nullptr;
+    const model::ModelOptions* model_options = nullptr;  ///< those `model` was built with (report: `model`)
     const geometry::ObstacleSet* obstacles = nullptr;
     const sim::SolverOptions* solver = nullptr;
     const sim::Result* result = nullptr;
@@ -63,6 +64,15 @@ nlohmann::json folds_json(const analysis::FoldAnalysis& folds, const analysis::F
 
 /// One line per corner: "corner 0 (+x +y): 1 billow at 0.40 m (+2.1 deg, 0.081 m); ...".
 std::string folds_summary(const nlohmann::json& folds);
+
+/// report.json's `model`: the model the run used, so that it can be rerun and checked from its
+/// folder: `discretization` (convergent|paper), `bending_form` (work|secant), `shear_law`
+/// (deembedded|measured), `shear_scale` (the factor on the input shear curve), `gram_force`
+/// (paper|standard) and `dyn_per_gram_force`, `tensile_stiffness_N_m` (E_t; 0 for the paper's
+/// discretisation, whose threads are C0's stretch well), `C0_J`, `gravity_m_s2`, `sigma_m`.
+/// `options`: those the model was built with (bending form, shear law, gram-force; the rest is
+/// read from the model, as it used them).
+nlohmann::json model_json(const model::ClothModel& model, const model::ModelOptions& options);
 
 /// report.json (keys documented in README.md).
 nlohmann::json drape_report(const DrapeReportInput& in);

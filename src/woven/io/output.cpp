@@ -1,6 +1,8 @@
 #include "woven/io/output.hpp"
 
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -43,7 +45,8 @@ void check_grid(const Positions& x, int nu, int nv, const char* what)
                          strf("%zu positions do not form a %d x %d grid (need nu, nv >= 2)", x.size(), nu, nv));
 }
 
-/// The two triangles of every grid cell, in the order of the header comment.
+}  // namespace
+
 std::vector<std::array<int, 3>> grid_triangles(int nu, int nv)
 {
     std::vector<std::array<int, 3>> t;
@@ -56,8 +59,6 @@ std::vector<std::array<int, 3>> grid_triangles(int nu, int nv)
         }
     return t;
 }
-
-}  // namespace
 
 void write_file_atomic(const std::string& path, std::string_view contents)
 {
@@ -123,28 +124,56 @@ std::string cloth_obj(const Positions& x, int nu, int nv)
     return s;
 }
 
-std::string cloth_ply(const Positions& x, int nu, int nv)
+std::string cloth_ply(const Positions& x, int nu, int nv, const std::vector<analysis::VertexField>& fields, PlyFormat format)
 {
     check_grid(x, nu, nv, "cloth PLY");
+    for (const auto& f : fields)
+        if (f.values.size() != x.size())
+            throw InputError("cloth PLY", f.name, strf("%zu values for %zu particles", f.values.size(), x.size()));
+    const bool binary = format == PlyFormat::BINARY;
     const Positions n = cloth_normals(x, nu, nv);
     const auto tris = grid_triangles(nu, nv);
     std::string s;
-    s.reserve(x.size() * 120);
-    s += "ply\nformat ascii 1.0\n";
+    s.reserve(x.size() * (binary ? 40 + 4 * fields.size() : 120 + 16 * fields.size()));
+    s += binary ? "ply\nformat binary_little_endian 1.0\n" : "ply\nformat ascii 1.0\n";
     s += "comment woven cloth, units: m\n";
     s += strf("comment grid %d x %d particles (nu x nv), vertex index = i + nu * j\n", nu, nv);
     s += "comment u = i/(nu-1) along the weft, v = j/(nv-1) along the warp\n";
+    for (const auto& f : fields) s += "comment " + f.name + " unit: " + f.unit + "\n";
     s += strf("element vertex %zu\n", x.size());
-    for (const char* p : {"x", "y", "z", "nx", "ny", "nz", "u", "v"}) s += strf("property float %s\n", p);
+    for (const char* p : {"x", "y", "z"}) s += strf("property double %s\n", p);
+    for (const char* p : {"nx", "ny", "nz", "u", "v"}) s += strf("property float %s\n", p);
+    for (const auto& f : fields) s += "property float " + f.name + "\n";
     s += strf("element face %zu\n", tris.size());
     s += "property list uchar int vertex_indices\nend_header\n";
+    // Binary: little-endian (x86-64's own order) values appended as their bytes.
+    static_assert(std::endian::native == std::endian::little, "the binary PLY writer assumes a little-endian machine");
+    auto put = [&s](auto value) { s.append(reinterpret_cast<const char*>(&value), sizeof value); };
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) {
             const int k = i + nu * j;
-            s += strf("%.9g %.9g %.9g %.6f %.6f %.6f %.9g %.9g\n", x[k].x(), x[k].y(), x[k].z(),
-                             n[k].x(), n[k].y(), n[k].z(), double(i) / (nu - 1), double(j) / (nv - 1));
+            const double u = double(i) / (nu - 1), v = double(j) / (nv - 1);
+            if (binary) {
+                for (int c = 0; c < 3; ++c) put(x[k][c]);
+                for (int c = 0; c < 3; ++c) put(static_cast<float>(n[k][c]));
+                put(static_cast<float>(u));
+                put(static_cast<float>(v));
+                for (const auto& f : fields) put(static_cast<float>(f.values[k]));
+            } else {
+                s += strf("%.9g %.9g %.9g %.6f %.6f %.6f %.9g %.9g", x[k].x(), x[k].y(), x[k].z(), n[k].x(), n[k].y(),
+                          n[k].z(), u, v);
+                for (const auto& f : fields) s += strf(" %.7g", f.values[k]);
+                s += "\n";
+            }
         }
-    for (const auto& t : tris) s += strf("3 %d %d %d\n", t[0], t[1], t[2]);
+    for (const auto& t : tris) {
+        if (binary) {
+            put(static_cast<unsigned char>(3));
+            for (int c : t) put(static_cast<std::int32_t>(c));
+        } else {
+            s += strf("3 %d %d %d\n", t[0], t[1], t[2]);
+        }
+    }
     return s;
 }
 

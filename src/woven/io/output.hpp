@@ -6,9 +6,12 @@
 // (i, j)-(i+1, j)-(i+1, j+1)-(i, j+1) gives two triangles,
 //   (i, j) (i+1, j) (i+1, j+1)   and   (i, j) (i+1, j+1) (i, j+1),
 // counter-clockwise seen from +z for a flat grid laid out as model::flat_grid lays it out.
+#include <array>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "woven/analysis/vertex_fields.hpp"
 #include "woven/common/types.hpp"
 
 namespace woven::io {
@@ -17,6 +20,9 @@ namespace woven::io {
 /// folder (".woven-tmp.<pid>.a<n>.<name>"), which is then renamed over `path` (no fsync). On any failure the temporary file is removed and RuntimeError is
 /// thrown; `path` is never left holding a partial file.
 void write_file_atomic(const std::string& path, std::string_view contents);
+
+/// The two triangles of every grid cell, in the order of the header comment (0-based).
+std::vector<std::array<int, 3>> grid_triangles(int nu, int nv);
 
 /// Per-vertex unit normals of the cloth grid: the area-weighted sum of the normals of the
 /// triangles (see the header comment) around each particle. Degenerate neighbourhoods get +z.
@@ -29,9 +35,15 @@ Positions cloth_normals(const Positions& x, int nu, int nv);
 /// three arrays share particle order). Throws InputError if x.size() != nu * nv or nu, nv < 2.
 std::string cloth_obj(const Positions& x, int nu, int nv);
 
-/// The cloth grid as ASCII PLY 1.0: vertex properties x y z nx ny nz u v (float, m; u, v as in
-/// cloth_obj) and `3 a b c` triangle faces (0-based), the same triangles as cloth_obj. Comments
-/// give the units and the grid. Throws InputError if x.size() != nu * nv or nu, nv < 2.
-std::string cloth_ply(const Positions& x, int nu, int nv);
+/// PLY's two encodings: binary little-endian (compact, exact) or ASCII (readable).
+enum class PlyFormat { BINARY, ASCII };
+
+/// The cloth grid as PLY 1.0: vertex properties x y z (double, m), nx ny nz u v (float; u, v as in
+/// cloth_obj), then one float property per field (its name; the header's comments give each
+/// unit), and `3 a b c` triangle faces (uchar count, int indices, 0-based), the same triangles as
+/// cloth_obj. Comments give the units and the grid. Throws InputError if x.size() != nu * nv,
+/// nu, nv < 2 or a field does not have one value per particle.
+std::string cloth_ply(const Positions& x, int nu, int nv, const std::vector<analysis::VertexField>& fields = {},
+                      PlyFormat format = PlyFormat::BINARY);
 
 }  // namespace woven::io

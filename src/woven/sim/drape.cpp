@@ -63,11 +63,11 @@ double max_displacement(const Positions& x, const Positions& y)
     return m;
 }
 
-double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
-                             const std::vector<int>& pinned, double contact_distance, double friction)
+Positions residual_forces(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
+                          double contact_distance, double friction)
 {
     const Eigen::VectorXd g = model.gradient(x);
-    std::vector<Vec3, Eigen::aligned_allocator<Vec3>> force(x.size());
+    Positions force(x.size());
     for (size_t i = 0; i < x.size(); ++i) force[i] = -g.segment<3>(3 * i);
     // An obstacle can push: a particle within the contact distance carries any outward normal
     // reaction, so the inward normal part of its force is not a residual; with friction, nor is
@@ -86,6 +86,13 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
             force[i] *= ft > 0 ? std::max(0.0, ft + friction * fn) / ft : 0.0;
         }
     }
+    return force;
+}
+
+double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
+                             const std::vector<int>& pinned, double contact_distance, double friction)
+{
+    const Positions force = residual_forces(model, obstacles, x, contact_distance, friction);
     std::vector<char> is_pinned(x.size(), 0);
     for (int p : pinned) is_pinned.at(p) = 1;
     // Each particle against its own weight; without gravity, its weight in standard gravity.

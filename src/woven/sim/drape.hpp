@@ -212,6 +212,12 @@ Positions perturbed(const Positions& x, const std::vector<char>& held, double am
 /// Largest |x_i - y_i| over particles (m).
 double max_displacement(const Positions& x, const Positions& y);
 
+/// The residual force on each particle (N): -dE/dx less what the obstacles can hold (see
+/// Equilibrium: the inward normal part within the contact distance, and with friction mu a
+/// tangential part up to mu times that reaction). Pinned particles are not treated apart.
+Positions residual_forces(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
+                          double contact_distance, double friction = 0.0);
+
 /// Largest residual force on a free particle relative to its weight (see Equilibrium). With
 /// friction mu, an obstacle also holds a tangential force up to mu times its normal reaction.
 double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,

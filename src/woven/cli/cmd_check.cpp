@@ -1,0 +1,264 @@
+// woven check FILE|DIR...: validates inputs and finished outputs without simulating.
+//   *.toml  a fabric or a scene file, read by the commands' own readers (a scene's fabric and mesh
+//           files too), and the fabric's curves fitted as a run fits them;
+//   *.obj   a mesh, read by the obstacle reader;
+//   a folder  a finished output set: its manifest (report.json, cusick.json or kes-report.json)
+//           parses, every file it lists is there with its size and SHA-256, its numbers are
+//           finite, and its OBJ meshes read.
+// One line per problem on stderr ("woven: error: ..."), the readers' warnings as the commands
+// print them, one "<path>: ok (...)" line per sound argument on stdout; exit 0 when all are
+// sound, 2 otherwise.
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "woven/cli/commands.hpp"
+#include "woven/cli/run_checks.hpp"
+#include "woven/common/error.hpp"
+#include "woven/io/fabric_file.hpp"
+#include "woven/io/gltf_file.hpp"
+#include "woven/io/mesh_file.hpp"
+#include "woven/io/scene_file.hpp"
+#include "woven/io/sha256.hpp"
+#include "woven/kes/fit.hpp"
+
+namespace woven::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The problems found so far, one line each.
+struct Findings {
+    std::vector<std::string> problems;
+    void problem(const std::string& line) { problems.push_back(line); }
+};
+
+/// The manifests of the commands' output sets, in the order they are looked for.
+const char* const kManifests[] = {"report.json", "cusick.json", "kes-report.json"};
+
+std::optional<std::string> read_text(const fs::path& p)
+{
+    std::ifstream in(p, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in.bad()) return std::nullopt;
+    return s.str();
+}
+
+/// A scene file names a [cloth] or [[obstacle]] table (docs/SCENE-FORMAT.md); a fabric file
+/// neither. A plain scan of the lines' starts (no regex: std::regex recurses per character).
+bool looks_like_scene(const std::string& text)
+{
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        std::size_t k = line.find_first_not_of(" \t");
+        if (k == std::string::npos || line[k] != '[') continue;
+        k = line.find_first_not_of("[ \t", k);
+        if (k == std::string::npos) continue;
+        for (const std::string table : {"cloth", "obstacle"})
+            if (line.compare(k, table.size(), table) == 0) {
+                const std::size_t e = line.find_first_not_of(" \t", k + table.size());
+                if (e != std::string::npos && (line[e] == ']' || line[e] == '.')) return true;
+            }
+    }
+    return false;
+}
+
+/// Fits the fabric's curves as a run does (kes::fit_fabric), errors naming its file.
+void fit(const kes::FabricData& fabric, const std::string& name_or_path)
+{
+    with_fabric_source(fabric_source(name_or_path), [&] { (void)kes::fit_fabric(fabric); });
+}
+
+std::string check_toml(const std::string& path, std::vector<std::string>& warnings)
+{
+    const auto text = read_text(path);
+    if (text && looks_like_scene(*text)) {
+        const io::SceneSpec scene = io::load_scene(path, &warnings);
+        if (scene.cloth.is_cut()) (void)scene.cloth.cut(scene.source_path);  // the outline keeps a cloth
+        const kes::FabricData fabric = io::find_fabric(scene.fabric, &warnings);
+        fit(fabric, scene.fabric);
+        return "scene " + scene.name + ", " + std::to_string(scene.cloth.nu) + " x " + std::to_string(scene.cloth.nv) +
+               " particles, " + std::to_string(scene.obstacle_kinds.size()) + " obstacles, fabric " +
+               (fabric.name.empty() ? scene.fabric : fabric.name);
+    }
+    const kes::FabricData fabric = io::load_fabric_file(path, &warnings);
+    fit(fabric, path);
+    return "fabric " + fabric.name;
+}
+
+/// Every null (a non-finite number as JSON writes it) or non-finite number under `j`.
+void non_finite(const nlohmann::json& j, const std::string& path, std::vector<std::string>& out)
+{
+    if (j.is_null() || (j.is_number_float() && !std::isfinite(j.get<double>()))) out.push_back(path);
+    if (j.is_object())
+        for (auto it = j.begin(); it != j.end(); ++it) non_finite(it.value(), path.empty() ? it.key() : path + "." + it.key(), out);
+    if (j.is_array())
+        for (std::size_t k = 0; k < j.size(); ++k) non_finite(j[k], path + "[" + std::to_string(k) + "]", out);
+}
+
+/// A name in a manifest: a plain file name in the folder (no separators, not . or ..).
+bool plain_name(const std::string& n) { return !n.empty() && n != "." && n != ".." && n.find('/') == std::string::npos; }
+
+/// Checks one file the manifest lists: present, a regular file, and (when given) its size and
+/// SHA-256; an OBJ or a GLB also reads.
+void check_listed(const fs::path& dir, const std::string& manifest, const std::string& name, const nlohmann::json* entry,
+                  Findings& f)
+{
+    const std::string shown = (dir / name).string();
+    if (!plain_name(name)) {
+        f.problem(manifest + ": files: '" + name + "' is not a file name in the folder");
+        return;
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(dir / name, ec)) {
+        f.problem(shown + ": file: listed in " + manifest + " but missing");
+        return;
+    }
+    const auto data = read_text(dir / name);
+    if (!data) {
+        f.problem(shown + ": file: cannot read");
+        return;
+    }
+    if (entry) {
+        if (!entry->is_object() || !(*entry)["bytes"].is_number_unsigned() || !(*entry)["sha256"].is_string()) {
+            f.problem(manifest + ": files." + name + ": expected {\"bytes\": n, \"sha256\": \"<hex>\"}");
+            return;
+        }
+        const auto bytes = (*entry)["bytes"].get<std::uint64_t>();
+        if (bytes != data->size())
+            f.problem(shown + ": bytes: " + std::to_string(data->size()) + ", the manifest says " + std::to_string(bytes));
+        else if ((*entry)["sha256"].get<std::string>() != io::sha256_hex(*data))
+            f.problem(shown + ": sha256: differs from " + manifest + "'s (the file changed after the run)");
+    }
+    try {
+        if (name.ends_with(".obj")) (void)io::parse_obj_mesh(*data, shown);
+        if (name.ends_with(".glb")) (void)io::check_glb(*data, shown);
+    } catch (const InputError& e) {
+        f.problem(e.what());
+    }
+}
+
+std::string check_folder(const fs::path& dir, Findings& f)
+{
+    const std::size_t before = f.problems.size();
+    std::string name;
+    for (const char* m : kManifests)
+        if (fs::exists(dir / m)) {
+            name = m;
+            break;
+        }
+    if (name.empty()) {
+        f.problem(dir.string() + ": manifest: no report.json, cusick.json or kes-report.json (not a finished woven output folder)");
+        return {};
+    }
+    const std::string manifest = (dir / name).string();
+    const auto text = read_text(dir / name);
+    if (!text) {
+        f.problem(manifest + ": file: cannot read");
+        return {};
+    }
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(*text);
+    } catch (const nlohmann::json::exception& e) {
+        f.problem(manifest + ": json: does not parse (" + e.what() + ")");
+        return {};
+    }
+    if (!j.is_object()) {
+        f.problem(manifest + ": json: expected an object");
+        return {};
+    }
+    // drape and fit: {"name": {"bytes", "sha256"}}; cusick too; kes-test lists names only.
+    if (!j.contains("files")) {
+        f.problem(manifest + ": files: missing (the list of the set's files)");
+    } else if (j["files"].is_object()) {
+        for (auto it = j["files"].begin(); it != j["files"].end(); ++it) check_listed(dir, manifest, it.key(), &it.value(), f);
+    } else if (j["files"].is_array()) {
+        for (const auto& n : j["files"]) {
+            if (!n.is_string()) {
+                f.problem(manifest + ": files: expected file names");
+                continue;
+            }
+            if (n.get<std::string>() != name) check_listed(dir, manifest, n.get<std::string>(), nullptr, f);
+        }
+    } else {
+        f.problem(manifest + ": files: expected an object or a list");
+    }
+    // Numbers: the commands write a non-finite number as null and never publish one (but for
+    // `folds`, a drape's analysis over a box, null elsewhere); kes-test reports a test that
+    // could not measure as null, so its report is not held to this.
+    if (name != "kes-report.json") {
+        std::vector<std::string> bad;
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (!(it.key() == "folds" && it.value().is_null())) non_finite(it.value(), it.key(), bad);
+        for (const auto& b : bad) f.problem(manifest + ": " + b + ": not a finite number");
+    }
+    if (f.problems.size() != before) return {};
+    const std::string command = j.contains("command") && j["command"].is_string() ? j["command"].get<std::string>()
+                                : name == "cusick.json"                           ? "cusick"
+                                                                                  : "drape or fit";
+    return "output of " + command + ", " + std::to_string(j.contains("files") ? j["files"].size() : 0) + " files listed in " + name;
+}
+
+}  // namespace
+
+int run_check(const CheckOptions& options)
+{
+    Findings f;
+    for (const auto& arg : options.paths) {
+        const std::size_t before = f.problems.size();
+        std::string what;
+        std::vector<std::string> warnings;
+        try {
+            std::error_code ec;
+            const fs::path p(arg);
+            if (fs::is_directory(p, ec)) {
+                what = check_folder(p, f);
+            } else if (!fs::exists(p, ec)) {
+                f.problem(arg + ": file: no such file or folder");
+            } else if (p.extension() == ".toml") {
+                what = check_toml(arg, warnings);
+            } else if (p.extension() == ".obj") {
+                const auto mesh = io::load_obj_mesh(arg);
+                what = "mesh, " + std::to_string(mesh.vertices.size()) + " vertices, " + std::to_string(mesh.faces.size()) + " triangles";
+            } else {
+                f.problem(arg + ": file: expected a fabric or scene .toml, an .obj mesh or an output folder");
+            }
+        } catch (const InputError& e) {
+            f.problem(e.what());
+        } catch (const std::exception& e) {
+            f.problem(arg + ": " + e.what());
+        }
+        print_warnings(warnings);
+        for (std::size_t k = before; k < f.problems.size(); ++k) std::cerr << "woven: error: " << one_line(f.problems[k]) << "\n";
+        if (f.problems.size() == before) std::cout << arg << ": ok (" << what << ")\n";
+    }
+    return f.problems.empty() ? kExitOk : kExitUsage;
+}
+
+void add_check_command(CLI::App& app, int& exit_code)
+{
+    auto o = std::make_shared<CheckOptions>();
+    CLI::App* sub = app.add_subcommand("check", "Validate fabric and scene files, meshes and output folders without simulating");
+    sub->footer("A .toml file is read as a fabric or a scene (a scene's fabric and mesh files too) by the readers the other "
+                "commands use, with their messages and warnings; an .obj file as an obstacle mesh; a folder as a finished "
+                "output set: its manifest (report.json, cusick.json or kes-report.json) parses, every file it lists is there "
+                "with its size and SHA-256, its numbers are finite and its OBJ and GLB meshes read. One line per problem on stderr; exit 0 when all is "
+                "well, 2 otherwise.");
+    sub->add_option("FILE|DIR", o->paths, "Files and output folders to check")->required();
+    sub->callback([o, &exit_code] { exit_code = run_check(*o); });
+}
+
+}  // namespace woven::cli

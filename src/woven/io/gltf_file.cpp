@@ -1,0 +1,226 @@
+#include "woven/io/gltf_file.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+
+#include <tiny_gltf.h>
+
+#include "woven/common/error.hpp"
+#include "woven/io/output.hpp"
+
+namespace woven::io {
+
+namespace {
+
+/// woven's z-up (x, y, z) as glTF's y-up (x, z, -y) (the header's rotation).
+std::array<float, 3> to_gltf(const Vec3& p)
+{
+    return {static_cast<float>(p.x()), static_cast<float>(p.z()), static_cast<float>(-p.y())};
+}
+
+/// Appends raw little-endian data to the buffer, 4-byte aligned, and adds a view of it.
+int add_view(tinygltf::Model& m, const void* data, std::size_t bytes, int target)
+{
+    auto& buf = m.buffers[0].data;
+    buf.resize((buf.size() + 3) / 4 * 4, 0);
+    tinygltf::BufferView v;
+    v.buffer = 0;
+    v.byteOffset = buf.size();
+    v.byteLength = bytes;
+    v.target = target;
+    const auto* p = static_cast<const unsigned char*>(data);
+    buf.insert(buf.end(), p, p + bytes);
+    m.bufferViews.push_back(v);
+    return static_cast<int>(m.bufferViews.size()) - 1;
+}
+
+int add_accessor(tinygltf::Model& m, int view, int component, int type, std::size_t count, std::vector<double> min = {},
+                 std::vector<double> max = {})
+{
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.byteOffset = 0;
+    a.componentType = component;
+    a.type = type;
+    a.count = count;
+    a.minValues = std::move(min);
+    a.maxValues = std::move(max);
+    m.accessors.push_back(a);
+    return static_cast<int>(m.accessors.size()) - 1;
+}
+
+int add_floats(tinygltf::Model& m, const std::vector<float>& v, int type, int width, bool bounds)
+{
+    std::vector<double> lo, hi;
+    if (bounds) {
+        lo.assign(width, std::numeric_limits<double>::infinity());
+        hi.assign(width, -std::numeric_limits<double>::infinity());
+        for (std::size_t k = 0; k < v.size(); ++k) {
+            lo[k % width] = std::min<double>(lo[k % width], v[k]);
+            hi[k % width] = std::max<double>(hi[k % width], v[k]);
+        }
+    }
+    const int view = add_view(m, v.data(), v.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+    return add_accessor(m, view, TINYGLTF_COMPONENT_TYPE_FLOAT, type, v.size() / width, lo, hi);
+}
+
+void check_length(std::size_t n, std::size_t vertices, const std::string& mesh, const std::string& what)
+{
+    if (n != 0 && n != vertices)
+        throw InputError("glTF output", mesh + "." + what,
+                         std::to_string(n) + " values for " + std::to_string(vertices) + " vertices");
+}
+
+}  // namespace
+
+std::string gltf_attribute(const std::string& field_name)
+{
+    std::string s = "_" + field_name;
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    return s;
+}
+
+std::string scene_glb(const std::vector<GltfMesh>& meshes)
+{
+    tinygltf::Model m;
+    m.asset.version = "2.0";
+    m.asset.generator = std::string("woven ") + WOVEN_VERSION;
+    tinygltf::Value::Object extras;
+    extras["axes"] = tinygltf::Value(std::string("woven (x, y, z) z-up is written as glTF (x, z, -y) y-up; metres"));
+    tinygltf::Value::Object units;
+    m.buffers.emplace_back();
+    tinygltf::Scene scene;
+    scene.name = "woven";
+    for (const GltfMesh& g : meshes) {
+        const std::size_t n = g.mesh.vertices.size();
+        check_length(g.normals.size(), n, g.name, "normals");
+        check_length(g.uv.size(), n, g.name, "uv");
+        for (const auto& f : g.fields) {
+            if (f.values.size() != n)
+                throw InputError("glTF output", g.name + "." + f.name,
+                                 std::to_string(f.values.size()) + " values for " + std::to_string(n) + " vertices");
+            units[gltf_attribute(f.name)] = tinygltf::Value(f.unit);
+        }
+        if (n == 0 || g.mesh.faces.empty()) throw InputError("glTF output", g.name, "a mesh needs vertices and faces");
+        tinygltf::Primitive prim;
+        prim.mode = TINYGLTF_MODE_TRIANGLES;
+        std::vector<float> pos;
+        pos.reserve(3 * n);
+        for (const Vec3& p : g.mesh.vertices)
+            for (float c : to_gltf(p)) pos.push_back(c);
+        prim.attributes["POSITION"] = add_floats(m, pos, TINYGLTF_TYPE_VEC3, 3, true);  // bounds: required
+        if (!g.normals.empty()) {
+            std::vector<float> nrm;
+            nrm.reserve(3 * n);
+            for (const Vec3& p : g.normals)
+                for (float c : to_gltf(p)) nrm.push_back(c);
+            prim.attributes["NORMAL"] = add_floats(m, nrm, TINYGLTF_TYPE_VEC3, 3, false);
+        }
+        if (!g.uv.empty()) {
+            std::vector<float> uv;
+            uv.reserve(2 * n);
+            for (const Vec2& t : g.uv) {
+                uv.push_back(static_cast<float>(t.x()));
+                uv.push_back(static_cast<float>(1.0 - t.y()));
+            }
+            prim.attributes["TEXCOORD_0"] = add_floats(m, uv, TINYGLTF_TYPE_VEC2, 2, false);
+        }
+        for (const auto& f : g.fields) {
+            std::vector<float> v(f.values.begin(), f.values.end());
+            prim.attributes[gltf_attribute(f.name)] = add_floats(m, v, TINYGLTF_TYPE_SCALAR, 1, true);
+        }
+        std::vector<std::uint32_t> idx;
+        idx.reserve(3 * g.mesh.faces.size());
+        for (const auto& f : g.mesh.faces)
+            for (int c = 0; c < 3; ++c) {
+                if (f[c] < 0 || static_cast<std::size_t>(f[c]) >= n)
+                    throw InputError("glTF output", g.name + ".faces", "index " + std::to_string(f[c]) + " past the vertices");
+                idx.push_back(static_cast<std::uint32_t>(f[c]));
+            }
+        const int iview = add_view(m, idx.data(), idx.size() * sizeof(std::uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+        prim.indices = add_accessor(m, iview, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, idx.size());
+
+        tinygltf::Material mat;
+        mat.name = g.name;
+        mat.pbrMetallicRoughness.baseColorFactor = {g.color[0], g.color[1], g.color[2], 1.0};
+        mat.pbrMetallicRoughness.metallicFactor = 0.0;
+        mat.pbrMetallicRoughness.roughnessFactor = 0.9;
+        mat.doubleSided = g.double_sided;
+        m.materials.push_back(mat);
+        prim.material = static_cast<int>(m.materials.size()) - 1;
+
+        tinygltf::Mesh mesh;
+        mesh.name = g.name;
+        mesh.primitives.push_back(prim);
+        m.meshes.push_back(mesh);
+        tinygltf::Node node;
+        node.name = g.name;
+        node.mesh = static_cast<int>(m.meshes.size()) - 1;
+        m.nodes.push_back(node);
+        scene.nodes.push_back(static_cast<int>(m.nodes.size()) - 1);
+    }
+    m.buffers[0].data.resize((m.buffers[0].data.size() + 3) / 4 * 4, 0);
+    extras["units"] = tinygltf::Value(units);
+    m.asset.extras = tinygltf::Value(extras);
+    m.scenes.push_back(scene);
+    m.defaultScene = 0;
+    std::ostringstream out;
+    tinygltf::TinyGLTF writer;
+    if (!writer.WriteGltfSceneToStream(&m, out, false, true)) throw RuntimeError("glTF output: tinygltf could not write the scene");
+    return out.str();
+}
+
+int check_glb(std::string_view data, const std::string& source)
+{
+    tinygltf::Model m;
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    if (!loader.LoadBinaryFromMemory(&m, &err, &warn, reinterpret_cast<const unsigned char*>(data.data()),
+                                     static_cast<unsigned int>(data.size())))
+        throw InputError(source, "glb", "does not load as glTF 2.0 binary (" + (err.empty() ? std::string("tinygltf") : err) + ")");
+    if (m.meshes.empty()) throw InputError(source, "glb", "has no mesh");
+    for (const auto& mesh : m.meshes)
+        for (const auto& prim : mesh.primitives) {
+            const auto it = prim.attributes.find("POSITION");
+            if (it == prim.attributes.end() || it->second < 0 || it->second >= static_cast<int>(m.accessors.size()))
+                throw InputError(source, "glb", "mesh '" + mesh.name + "' has no POSITION");
+            const auto& a = m.accessors[it->second];
+            bool finite = a.minValues.size() == 3 && a.maxValues.size() == 3;
+            for (std::size_t c = 0; finite && c < 3; ++c) finite = std::isfinite(a.minValues[c]) && std::isfinite(a.maxValues[c]);
+            if (!finite) throw InputError(source, "glb", "mesh '" + mesh.name + "': POSITION bounds missing or not finite");
+        }
+    return static_cast<int>(m.meshes.size());
+}
+
+GltfMesh cloth_gltf_mesh(const Positions& x, int nu, int nv, const std::vector<analysis::VertexField>& fields)
+{
+    GltfMesh g;
+    g.name = "cloth";
+    g.normals = cloth_normals(x, nu, nv);  // checks the grid
+    g.mesh.vertices.assign(x.begin(), x.end());
+    for (const auto& t : grid_triangles(nu, nv)) g.mesh.faces.emplace_back(t[0], t[1], t[2]);
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) g.uv.emplace_back(double(i) / (nu - 1), double(j) / (nv - 1));
+    g.fields = fields;
+    g.color = {0.8, 0.75, 0.65};
+    g.double_sided = true;
+    return g;
+}
+
+std::vector<GltfMesh> obstacle_gltf_meshes(const geometry::ObstacleSet& obstacles)
+{
+    std::vector<GltfMesh> out;
+    for (std::size_t k = 0; k < obstacles.size(); ++k) {
+        GltfMesh g;
+        g.name = "obstacle " + std::to_string(k) + " " + obstacles[k].kind();
+        g.mesh = obstacles[k].tessellate();
+        out.push_back(std::move(g));
+    }
+    return out;
+}
+
+}  // namespace woven::io
