@@ -181,3 +181,23 @@ TEST_F(Issue36, Defect02InputsAreRegularFilesReadBounded)
     EXPECT_EQ(b.err, "woven: error: big.toml: file: expected a fabric .toml file of at most 8 MiB, got 8388609 bytes\n");
     EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
+
+// Defect 3: fit's --sigma-cm is bounded (1e-160 wrote 1,000 -nan rows with exit 0); at both
+// ends of the range every table holds numbers only.
+TEST_F(Issue36, Defect03FitSpacingIsBoundedAndTablesAreFinite)
+{
+    Outcome r = woven("fit wool --sigma-cm 1e-160 --out f");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_EQ(r.err, "woven: error: command line: --sigma-cm: expected a number in [0.01, 100], got '1e-160'\n");
+    EXPECT_FALSE(fs::exists(dir_ / "f"));
+    for (const char* s : {"0.01", "100"}) {
+        r = woven(std::string("fit wool --sigma-cm ") + s + " --out f" + s);
+        ASSERT_EQ(r.code, 0) << s << r.err;
+        EXPECT_TRUE(complete_set(std::string("f") + s, "report.json"));
+        for (const char* csv : {"bending_warp_energy.csv", "bending_weft_energy.csv", "trellis_energy.csv"}) {
+            const std::string t = slurp(dir_ / (std::string("f") + s) / csv);
+            EXPECT_EQ(t.find("nan"), std::string::npos) << s << " " << csv;
+            EXPECT_EQ(t.find("inf"), std::string::npos) << s << " " << csv;
+        }
+    }
+}
