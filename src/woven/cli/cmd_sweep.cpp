@@ -23,6 +23,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -42,6 +43,7 @@
 #include "woven/cli/resources.hpp"
 #include "woven/cli/sweep.hpp"
 #include "woven/common/error.hpp"
+#include "woven/io/fabric_file.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/io/sweep_plan.hpp"
 
@@ -736,6 +738,40 @@ MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
 
 namespace {
 
+/// Reads every point's overridden scene and fabric with the commands' own readers before
+/// anything runs: a bad value or a key the file does not have (a warning when a scene is read)
+/// is an error naming the plan and the point.
+void validate_overrides(const io::SweepPlan& plan, const std::vector<io::SweepPoint>& points)
+{
+    std::set<std::string> seen;
+    for (const auto& p : points) {
+        if (p.scene_overrides.empty() && p.fabric_overrides.empty()) continue;
+        const std::string key = point_signature(p).dump();
+        if (!seen.insert(key).second) continue;
+        std::vector<std::string> warnings;
+        try {
+            if (!p.scene_overrides.empty()) {
+                const std::string text = io::apply_toml_overrides(io::scene_or_fabric_text(p.args[1], "scene"), p.args[1], p.scene_overrides);
+                (void)io::parse_scene(text, "scene " + p.args[1], ".", &warnings);
+            }
+            if (!p.fabric_overrides.empty()) {
+                std::string fabric;
+                for (std::size_t k = 2; k + 1 < p.args.size(); ++k)
+                    if (p.args[k] == "--fabric") fabric = p.args[k + 1];
+                if (plan.command != "drape") fabric = p.args[1];
+                if (fabric.empty()) fabric = io::find_scene(p.args[1]).fabric;
+                const std::string text = io::apply_toml_overrides(io::scene_or_fabric_text(fabric, "fabric"), fabric, p.fabric_overrides);
+                (void)io::parse_fabric(text, "fabric " + fabric, &warnings);
+            }
+        } catch (const InputError& e) {
+            throw InputError(plan.source, "point " + p.name, e.what());
+        }
+        for (const auto& w : warnings)
+            if (w.find("unknown key") != std::string::npos)
+                throw InputError(plan.source, "point " + p.name, w + " (an override names a key the file does not have)");
+    }
+}
+
 int run_sweep(const SweepOptions& o)
 {
     std::vector<std::string> warnings;
@@ -745,6 +781,7 @@ int run_sweep(const SweepOptions& o)
     const int jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
     const ShardSpec shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
     const std::vector<io::SweepPoint> points = plan.points();
+    validate_overrides(plan, points);
     if (o.list) {
         for (const auto& p : points) {
             std::cout << p.index << " " << p.name << (in_shard(p.index, shard) ? "" : " (other shard)") << ":";

@@ -107,6 +107,38 @@ std::string join_names(const std::vector<std::string>& names)
     return out;
 }
 
+/// A value as TOML text: numbers shortest ("0.1"), strings quoted, arrays "[9, 9]".
+std::string toml_literal(const toml::node& n)
+{
+    if (const auto* i = n.as_integer()) return std::to_string(i->get());
+    if (const auto* f = n.as_floating_point()) {
+        std::string t = num_str(f->get());
+        if (t.find_first_of(".eE") == std::string::npos) t += ".0";  // stays a float
+        return t;
+    }
+    if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
+    if (const auto* a = n.as_array()) {
+        std::string out = "[";
+        for (std::size_t k = 0; k < a->size(); ++k) out += (k == 0 ? "" : ", ") + toml_literal(*a->get(k));
+        return out + "]";
+    }
+    if (const auto* s = n.as_string()) {
+        std::string out = "\"";
+        for (const char c : s->get()) {
+            if (c == '"' || c == '\\') out += '\\';
+            if (static_cast<unsigned char>(c) < 0x20) {
+                char b[8];
+                std::snprintf(b, sizeof b, "\\u%04x", static_cast<unsigned>(c));
+                out += b;
+                continue;
+            }
+            out += c;
+        }
+        return out + "\"";
+    }
+    return "\"\"";
+}
+
 /// Reads one scalar value of `key` into a SweepValue; `field` names it in errors.
 SweepValue read_value(const TomlTable& t, const toml::node& n, const std::string& field, const std::string& key,
                       const std::string& command, const std::string& base_dir)
@@ -114,18 +146,22 @@ SweepValue read_value(const TomlTable& t, const toml::node& n, const std::string
     SweepValue v;
     v.key = key;
     if (is_override(key, command)) {
-        if (n.is_integer() || n.is_floating_point()) {
-            const double x = t.to_number(n, field, Range{-1e300, 1e300, false, ""});
-            v.text = n.is_integer() ? std::to_string(n.as_integer()->get()) : num_str(x);
-            v.number = true;
-        } else if (const auto* s = n.as_string()) {
-            v.text = s->get();
-        } else if (const auto* b = n.as_boolean()) {
-            v.text = b->get() ? "true" : "false";
+        // Kept as a TOML literal ("0.1", "[9, 9]", "\"wool\"", "true"), set into the point's
+        // copy of the scene or fabric file by apply_toml_overrides.
+        const bool array = n.is_array();
+        if (!(n.is_integer() || n.is_floating_point() || n.is_string() || n.is_boolean() || array))
+            t.fail_at(field, "expected a number, a string, a boolean or an array for a " + key.substr(0, key.find('.')) + " key" +
+                                 TomlReader::at(n));
+        if (n.is_floating_point() && !std::isfinite(n.as_floating_point()->get())) t.fail_at(field, "expected a finite number" + TomlReader::at(n));
+        v.text = toml_literal(n);
+        v.number = n.is_integer() || n.is_floating_point();
+        if (const auto* s = n.as_string()) {
+            v.label = s->get();
+        } else if (const auto* a = n.as_array()) {
+            for (std::size_t k = 0; k < a->size(); ++k) v.label += (k == 0 ? "" : "x") + toml_literal(*a->get(k));
         } else {
-            t.fail_at(field, "expected a number, a string or a boolean for a " + key.substr(0, key.find('.')) + " key" + TomlReader::at(n));
+            v.label = v.text;
         }
-        v.label = v.text;
         return v;
     }
     const KeySpec* spec = find_spec(key, command);
@@ -397,17 +433,13 @@ std::string apply_toml_overrides(std::string_view text, const std::string& sourc
             t = n->as_table();
         }
         if (parts.empty() || parts.back().empty()) throw InputError(source, o.key, "expected a dotted key");
-        if (o.number) {
-            const double x = std::stod(o.text);
-            if (o.text.find_first_of(".eE") == std::string::npos && std::abs(x) < 9e15)
-                t->insert_or_assign(parts.back(), static_cast<int64_t>(std::llround(x)));
-            else
-                t->insert_or_assign(parts.back(), x);
-        } else if (o.text == "true" || o.text == "false") {
-            t->insert_or_assign(parts.back(), o.text == "true");
-        } else {
-            t->insert_or_assign(parts.back(), o.text);
+        toml::table lit;
+        try {
+            lit = toml::parse("v = " + o.text);
+        } catch (const toml::parse_error&) {
+            throw InputError(source, o.key, "cannot set the value " + printable(o.text));
         }
+        t->insert_or_assign(parts.back(), *lit.get("v"));
     }
     std::ostringstream out;
     out << toml::toml_formatter(root) << "\n";
