@@ -226,14 +226,13 @@ int run_cusick(const CusickCommandOptions& o)
         const std::string suffix = runs == 1 ? "" : "-seed" + std::to_string(ck.solver.seed);
         const std::string shadow_name = "shadow" + suffix + ".png";
         require_finite_positions(r.drape.x, "cusick: the drape of seed " + std::to_string(ck.solver.seed));
-        render::write_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()), set.temp_path(shadow_name));
-        set.added(shadow_name);
+        set.add(shadow_name, render::encode_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()),
+                                                out(shadow_name)));
         if (k == 0) {
             set.add("cusick.obj", io::surface_obj(r.surface, r.surface_uv,
                                                   "cusick: draped specimen, fabric " + name + ", spacing " + std::to_string(r.spacing_m) + " m"));
             if (!o.no_render && !interrupt_requested()) {
-                render::write_png(drape_picture(r, setup, fabric), set.temp_path("drape.png"));
-                set.added("drape.png");
+                set.add("drape.png", render::encode_png(drape_picture(r, setup, fabric), out("drape.png")));
             }
             first = j;
         }
