@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -153,6 +154,12 @@ int run_cusick(const CusickCommandOptions& o)
     if (o.spacing_cm) co.spacing_m = 0.01 * parse_positive(*o.spacing_cm, "--spacing-cm", 10);
     const int runs = static_cast<int>(parse_integer(o.seeds, "--seeds", 1, 1000));
     const std::uint64_t seed0 = parse_seed(o.seed, "--seed");
+    // Run k uses seed0 + k: the last must not wrap round to 0.
+    const std::uint64_t max_seed0 = std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(runs - 1);
+    if (seed0 > max_seed0)
+        throw InputError(kCommandLine, "--seed",
+                         "expected at most " + std::to_string(max_seed0) + " with --seeds " + std::to_string(runs) +
+                             " (the runs' seeds are seed .. seed + " + std::to_string(runs - 1) + "), got '" + o.seed + "'");
     if (auto t = parse_integer(o.threads, "--threads", 0, 4096)) co.solver.threads = static_cast<int>(*t);
     if (auto m = parse_integer(o.max_steps, "--max-steps", 0, 1000000)) co.solver.max_steps = static_cast<int>(*m);
     if (o.shear_law)
