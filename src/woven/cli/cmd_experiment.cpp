@@ -576,7 +576,9 @@ void add_experiment_command(CLI::App& app, int& exit_code)
                 "(corner, side, top views), cube_folds.md (fold table, how often each corner structure appears), "
                 "cube_results.json.\nmap: the corner structure over synthetic fabrics (warp/weft bending ratio 1/4 .. 4, "
                 "bending length 1 .. 5 cm; --map-grid): corner_map.png, corner_map.md, corner_map.json.\n"
-                "figure1: the chair and the end table (Fig. 1): figure1_chair.png, figure1_table.png, figure1.md.");
+                "figure1: the chair and the end table (Fig. 1): figure1_chair.png, figure1_table.png, figure1.md, figure1.json.\n"
+                "Each experiment's files are one set, its JSON written last naming every file with its SHA-256. Ctrl-C (SIGINT) "
+                "or SIGTERM stops the running drape and exits with 130 or 143 without writing: the folder keeps the previous set.");
     sub->add_option("EXPERIMENT", o->which, "cube, map or figure1")->required()->check(CLI::IsMember({"cube", "map", "figure1"}));
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")->capture_default_str()->check(CLI::Range(1, 100));

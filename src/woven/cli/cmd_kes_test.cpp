@@ -441,7 +441,8 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
     sub->footer("Each test is a static simulation of a specimen of the model's particles (docs/VALIDATION.md says how each maps onto the "
                 "grid). Prints input vs simulated summary values and writes to --out (default out/kes-<name>): <test>_<direction>.csv, "
                 "cantilever.png, bending.png, shear.png and kes-report.json (list 'tests': test, direction, sigma_m, input_summary, "
-                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m; shear also central_summary, central_rel_error: the middle half of the clamp, away from the free short edges).");
+                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m; shear also central_summary, central_rel_error: the middle half of the clamp, away from the free short edges). The files are one set: "
+                "kes-report.json is written last and names every file with its size and SHA-256; files of an earlier run's other tests are removed.");
     sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")->required();
     sub->add_option("--test", options->test, "cantilever, bending, shear or all")->capture_default_str();
     sub->add_option("--direction", options->direction, "warp, weft or both")->capture_default_str();
