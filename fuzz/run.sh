@@ -7,10 +7,14 @@ build=${1:?usage: run.sh BUILD [SECONDS] [TARGETS...]}
 seconds=${2:-60}
 shift $(( $# >= 2 ? 2 : $# ))
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf)
+[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf corner_map output_set)
 root=$(cd "$(dirname "$0")/.." && pwd)
-declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets" [gltf]="$root/assets $root/fuzz/corpus/obj")
-declare -A dicts=([fabric]="$root/fuzz/toml.dict" [scene]="$root/fuzz/toml.dict" [obj]="$root/fuzz/obj.dict" [gltf]="$root/fuzz/obj.dict")
+# Seeds are folders (libFuzzer runs a file argument once and stops); the corner map's are its
+# corpus, which holds a small valid map (docs/experiments' are 50 kB, over -max_len).
+declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets" [gltf]="$root/assets $root/fuzz/corpus/obj"
+                  [corner_map]="" [output_set]="")
+declare -A dicts=([fabric]="-dict=$root/fuzz/toml.dict" [scene]="-dict=$root/fuzz/toml.dict" [obj]="-dict=$root/fuzz/obj.dict"
+                  [gltf]="-dict=$root/fuzz/obj.dict" [corner_map]="-dict=$root/fuzz/json.dict" [output_set]="")
 status=0
 for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"
@@ -18,7 +22,7 @@ for t in "${targets[@]}"; do
   echo "fuzz_$t: ${seconds} s" >&2
   log="$build/fuzz-$t.log"
   "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=16384 \
-    -dict="${dicts[$t]}" -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
+    ${dicts[$t]} -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
     "$work" "$root/fuzz/corpus/$t" ${seeds[$t]} > "$log" 2>&1 || { status=1; grep -A3 "ERROR\|deadly\|Test unit" "$log" >&2; }
   # The last coverage line and the final counts (the whole log is in $log).
   grep -E "^#[0-9]+" "$log" | tail -n 1 >&2

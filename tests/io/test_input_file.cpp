@@ -14,6 +14,8 @@
 
 #include "woven/common/error.hpp"
 #include "woven/io/corner_map_file.hpp"
+#include "woven/io/fabric_file.hpp"
+#include "woven/io/mesh_file.hpp"
 #include "woven/io/input_file.hpp"
 
 namespace fs = std::filesystem;
@@ -148,4 +150,26 @@ TEST(CornerMap, EveryBadFieldIsNamed)
     EXPECT_EQ(map_error("{\"cells\": 5}"), "m.json: cells: expected an array, got 5");
     EXPECT_THAT(map_error("{\"cells\": "), HasSubstr("m.json: json: expected the corner_map.json an earlier `woven experiment map` wrote"));
     EXPECT_EQ(map_error(std::string(100000, '[')), "m.json: json: expected JSON nested at most 16 deep");
+}
+
+// Issue 36, defect 11: a curve whose slope is exactly a documented end (1e-4 gf.cm^2/cm, the
+// smallest B) reads 9.999999999998899e-05 by rounding; it is accepted, a slope below is not.
+TEST(FabricSlope, ExactlyTheDocumentedMinimumIsAccepted)
+{
+    const std::string head = "name = \"edge\"\nsource = \"test\"\nareal_density_mg_cm2 = 15\n[bending.warp]\n"
+                             "curvature_per_cm = [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]\n";
+    const std::string tail = "[bending.weft]\nB = 0.04\n2HB = 0.02\n[shear]\nG = 0.5\n2HG = 0.5\n2HG5 = 1.0\n";
+    EXPECT_NO_THROW(woven::io::parse_fabric(head + "moment_gf_cm_per_cm = [0.0, 0.00005, 0.0001, 0.00015, 0.0002, 0.00025]\n" + tail, "edge.toml"));
+    EXPECT_THROW(woven::io::parse_fabric(head + "moment_gf_cm_per_cm = [0.0, 0.00004, 0.00008, 0.00012, 0.00016, 0.0002]\n" + tail, "edge.toml"),
+                 InputError);
+}
+
+// Issue 36, defect 11: a coordinate written with a leading '+' is a number.
+TEST(ObjPlus, LeadingPlusIsANumber)
+{
+    const auto m = woven::io::parse_obj_mesh("v +0.2 0 0\nv 1 +0 0\nv 0 1 +1e-3\nf 1 2 3\n", "m.obj");
+    EXPECT_DOUBLE_EQ(m.vertices[0].x(), 0.2);
+    EXPECT_DOUBLE_EQ(m.vertices[2].z(), 1e-3);
+    for (const char* bad : {"v +-1 0 0\n", "v ++1 0 0\n", "v + 0 0\n"})
+        EXPECT_THROW(woven::io::parse_obj_mesh(std::string(bad) + "v 1 0 0\nv 0 1 0\nf 1 2 3\n", "m.obj"), InputError) << bad;
 }

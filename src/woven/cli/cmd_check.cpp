@@ -180,7 +180,8 @@ std::string check_folder(const fs::path& dir, Findings& f)
         f.problem(manifest + ": json: expected an object");
         return {};
     }
-    // drape and fit: {"name": {"bytes", "sha256"}}; cusick too; kes-test lists names only.
+    // Every command: {"name": {"bytes", "sha256"}}; a list of names (kes-test before issue 36) is
+    // still read: each file must be there.
     if (!j.contains("files")) {
         f.problem(manifest + ": files: missing (the list of the set's files)");
     } else if (j["files"].is_object()) {

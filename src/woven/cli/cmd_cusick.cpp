@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -153,6 +154,12 @@ int run_cusick(const CusickCommandOptions& o)
     if (o.spacing_cm) co.spacing_m = 0.01 * parse_positive(*o.spacing_cm, "--spacing-cm", 10);
     const int runs = static_cast<int>(parse_integer(o.seeds, "--seeds", 1, 1000));
     const std::uint64_t seed0 = parse_seed(o.seed, "--seed");
+    // Run k uses seed0 + k: the last must not wrap round to 0.
+    const std::uint64_t max_seed0 = std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(runs - 1);
+    if (seed0 > max_seed0)
+        throw InputError(kCommandLine, "--seed",
+                         "expected at most " + std::to_string(max_seed0) + " with --seeds " + std::to_string(runs) +
+                             " (the runs' seeds are seed .. seed + " + std::to_string(runs - 1) + "), got '" + o.seed + "'");
     if (auto t = parse_integer(o.threads, "--threads", 0, 4096)) co.solver.threads = static_cast<int>(*t);
     if (auto m = parse_integer(o.max_steps, "--max-steps", 0, 1000000)) co.solver.max_steps = static_cast<int>(*m);
     if (o.shear_law)
@@ -226,14 +233,13 @@ int run_cusick(const CusickCommandOptions& o)
         const std::string suffix = runs == 1 ? "" : "-seed" + std::to_string(ck.solver.seed);
         const std::string shadow_name = "shadow" + suffix + ".png";
         require_finite_positions(r.drape.x, "cusick: the drape of seed " + std::to_string(ck.solver.seed));
-        render::write_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()), set.temp_path(shadow_name));
-        set.added(shadow_name);
+        set.add(shadow_name, render::encode_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()),
+                                                out(shadow_name)));
         if (k == 0) {
             set.add("cusick.obj", io::surface_obj(r.surface, r.surface_uv,
                                                   "cusick: draped specimen, fabric " + name + ", spacing " + std::to_string(r.spacing_m) + " m"));
             if (!o.no_render && !interrupt_requested()) {
-                render::write_png(drape_picture(r, setup, fabric), set.temp_path("drape.png"));
-                set.added("drape.png");
+                set.add("drape.png", render::encode_png(drape_picture(r, setup, fabric), out("drape.png")));
             }
             first = j;
         }

@@ -125,9 +125,9 @@ int run_drape(const DrapeOptions& options)
                                cut ? &cut_surface->mesh : nullptr, cut ? &cut_surface->uv : nullptr,
                                "drape of a cloth cut to its outline, scene " + scene.name, fabric.color});
     if (!options.no_render && !interrupt_requested()) {
-        render::write_png(render_drape(result.x, grid, scene, fabric, width, height, cut_surface ? &*cut_surface : nullptr),
-                          set.temp_path("drape.png"));
-        set.added("drape.png");
+        set.add("drape.png", render::encode_png(render_drape(result.x, grid, scene, fabric, width, height,
+                                                             cut_surface ? &*cut_surface : nullptr),
+                                                out("drape.png")));
     }
     DrapeReportInput in;
     in.scene = scene.name;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -20,12 +21,15 @@
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/material.hpp"
+#include "woven/cli/progress.hpp"
 #include "woven/cli/report.hpp"
+#include "woven/cli/run_checks.hpp"
 #include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/corner_map_file.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/figure.hpp"
@@ -83,6 +87,26 @@ struct ExperimentOptions {
     std::vector<std::string> fabrics = {"cotton", "wool", "polyester_cotton"};
 };
 
+/// Thrown when SIGINT or SIGTERM stopped a drape: the experiment ends without publishing, so
+/// its folder keeps the previous complete set.
+struct ExperimentInterrupted {};
+
+/// The experiment's JSON (its set's manifest) holds finite numbers only; a drape's `folds` may
+/// be null where the scene has no box to analyse. RuntimeError (exit 1, nothing published) else.
+void require_finite_experiment(nlohmann::json j, const std::string& what)
+{
+    std::function<void(nlohmann::json&)> strip = [&strip](nlohmann::json& v) {
+        if (v.is_object()) {
+            if (v.contains("folds") && v["folds"].is_null()) v.erase("folds");
+            for (auto& e : v) strip(e);
+        } else if (v.is_array()) {
+            for (auto& e : v) strip(e);
+        }
+    };
+    strip(j);
+    require_finite(j, what);
+}
+
 /// One drape and what it measured.
 struct Outcome {
     std::string fabric;
@@ -117,7 +141,14 @@ Outcome drape(const kes::FabricData& fabric, const std::string& fabric_name, std
     problem.initial = scene.cloth.initial_positions();
     problem.pinned = scene.pinned_indices();
     std::cerr << "woven: experiment: " << scene.name << ", " << fabric_name << ", seed " << seed << " ..." << std::flush;
-    const sim::Result r = sim::drape(problem, scene.solver);
+    // SIGINT or SIGTERM (install_interrupt_handler) stops the solve after the current Newton
+    // iteration; the experiment then publishes nothing (ExperimentInterrupted).
+    const sim::Result r = sim::drape(problem, scene.solver, [](const sim::StepInfo&) { return !interrupt_requested(); },
+                                     [](const sim::IterationInfo&) { return !interrupt_requested(); });
+    if (interrupt_requested() || r.interrupted) {
+        std::cerr << " interrupted\n";
+        throw ExperimentInterrupted{};
+    }
     std::fprintf(stderr, " %s, %d steps, %.1f s\n", r.converged ? "converged" : "NOT converged", r.steps, r.wall_time);
     out.x = r.x;
     out.converged = r.converged;
@@ -174,6 +205,9 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
     for (const auto& f : o.fabrics) fabrics.push_back(io::find_fabric(f, &warnings));
     print_warnings(warnings);
     make_output_dir(o.out);
+    check_output_targets(o.out, {"cube_figure.png", "cube_folds.md", "cube_results.json"});
+    io::OutputSet set(o.out, {"cube_figure.png", "cube_folds.md"});
+    install_interrupt_handler();
 
     std::vector<std::vector<Outcome>> runs(fabrics.size());
     std::vector<io::SceneSpec> scenes;
@@ -200,7 +234,7 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
     }
     const std::string note = "seed 1 of each; " + std::string("woven ") + WOVEN_VERSION;
     render::draw_label(fig, note, margin_l, label_h + ph * 3 + 8, 2, Vec3(0.3, 0.3, 0.3));
-    render::write_png(fig, join_path(o.out, "cube_figure.png"));
+    set.add("cube_figure.png", render::encode_png(fig, join_path(o.out, "cube_figure.png")));
 
     // The fold table and the per-seed statistics.
     const auto& depths = analysis::FoldOptions{}.depths_m;
@@ -270,14 +304,16 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
     }
     md << "\n\"distinct drapes\": seeds whose final energies differ (by more than 1e-9 relative); with a "
           "symmetric start and no perturbation every seed gives the same drape.\n\n![cube figure](cube_figure.png)\n";
-    io::write_file_atomic(join_path(o.out, "cube_folds.md"), md.str());
+    set.add("cube_folds.md", md.str());
     nlohmann::json j{{"command", command},
                      {"version", WOVEN_VERSION},
                      {"runs", all},
                      {"statistics", stats},
                      {"diagonal_tolerance_deg", kDiagonalToleranceDeg},
                      {"corner_cone_deg", kCornerConeDeg}};
-    io::write_file_atomic(join_path(o.out, "cube_results.json"), j.dump(1) + "\n");
+    require_finite_experiment(j, "experiment cube");
+    j["files"] = set.files_json();
+    set.publish("cube_results.json", j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "cube_figure.png") << ", cube_folds.md, cube_results.json\n";
     return kExitOk;
 }
@@ -351,6 +387,9 @@ int run_map(const ExperimentOptions& o, const std::string& command)
         for (double r : ratios)
             for (double c : lengths) reused_cell(r, c);
     make_output_dir(o.out);  // after every input is read: a bad one writes nothing
+    check_output_targets(o.out, {"corner_map.png", "corner_map.md", "corner_map.json"});
+    io::OutputSet set(o.out, {"corner_map.png", "corner_map.md"});
+    install_interrupt_handler();
     for (double r : ratios)
         for (double c : lengths) {
             Outcome d;
@@ -449,7 +488,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     }
     render::draw_label(img, std::string("woven ") + WOVEN_VERSION + "; W, G of cotton", left, top + nr * ch + bottom - 30, 2,
                        Vec3(0.3, 0.3, 0.3));
-    render::write_png(img, join_path(o.out, "corner_map.png"));
+    set.add("corner_map.png", render::encode_png(img, join_path(o.out, "corner_map.png")));
 
     std::ostringstream md;
     md << "# Corner-structure map\n\n" << provenance(command) << "\n\n";
@@ -478,11 +517,13 @@ int run_map(const ExperimentOptions& o, const std::string& command)
         md << "| " << o.fabrics[f] << " | " << fmt("%.2f", len) << " | " << fmt("%.2f", ratio) << " |\n";
     }
     md << "\n![corner map](corner_map.png)\n";
-    io::write_file_atomic(join_path(o.out, "corner_map.md"), md.str());
+    set.add("corner_map.md", md.str());
     nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"cells", jcells}};
     if (o.reuse)
         j["drapes_from"] = {{"file", *o.reuse}, {"command", reused->command}, {"version", reused->version}};
-    io::write_file_atomic(join_path(o.out, "corner_map.json"), j.dump(1) + "\n");
+    require_finite_experiment(j, "experiment map");
+    j["files"] = set.files_json();
+    set.publish("corner_map.json", j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "corner_map.png") << ", corner_map.md, corner_map.json\n";
     return kExitOk;
 }
@@ -496,6 +537,9 @@ int run_figure1(const ExperimentOptions& o, const std::string& command)
     const kes::FabricData fabric = io::find_fabric("cotton", &warnings);
     print_warnings(warnings);
     make_output_dir(o.out);
+    check_output_targets(o.out, {"figure1_chair.png", "figure1_table.png", "figure1.md", "figure1.json"});
+    io::OutputSet set(o.out, {"figure1_chair.png", "figure1_table.png", "figure1.md"});
+    install_interrupt_handler();
     std::ostringstream md;
     md << "# Fig. 1: a chair and an end table\n\n"
        << provenance(command) << "\n\n| scene | converged | steps | wall (s) |\n|---|---|---|---|\n";
@@ -505,16 +549,19 @@ int run_figure1(const ExperimentOptions& o, const std::string& command)
         const kes::FabricData f = io::find_fabric(scene.fabric, &warnings);
         const Outcome d = drape(f, scene.fabric, 1, o, scene);
         const render::DrapeScene ds = drape_scene(d, scene, f);
-        render::write_png(picture(ds, render::View::SCENE, 1024, 768), join_path(o.out, "figure1_" + name + ".png"));
+        const std::string png = "figure1_" + std::string(name) + ".png";
+        set.add(png, render::encode_png(picture(ds, render::View::SCENE, 1024, 768), join_path(o.out, png)));
         md << "| " << name << " (" << scene.fabric << ", " << d.grid.nu << " x " << d.grid.nv << ") | " << (d.converged ? "yes" : "no")
            << " | " << d.steps << " | " << fmt("%.0f", d.wall_s) << " |\n";
         runs.push_back(outcome_json(d));
         runs.back()["scene"] = name;
     }
     md << "\n![chair](figure1_chair.png)\n\n![table](figure1_table.png)\n";
-    io::write_file_atomic(join_path(o.out, "figure1.md"), md.str());
+    set.add("figure1.md", md.str());
     nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"runs", runs}};
-    io::write_file_atomic(join_path(o.out, "figure1.json"), j.dump(1) + "\n");
+    require_finite_experiment(j, "experiment figure1");
+    j["files"] = set.files_json();
+    set.publish("figure1.json", j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "figure1_chair.png") << ", figure1_table.png, figure1.md\n";
     return kExitOk;
 }
@@ -529,7 +576,9 @@ void add_experiment_command(CLI::App& app, int& exit_code)
                 "(corner, side, top views), cube_folds.md (fold table, how often each corner structure appears), "
                 "cube_results.json.\nmap: the corner structure over synthetic fabrics (warp/weft bending ratio 1/4 .. 4, "
                 "bending length 1 .. 5 cm; --map-grid): corner_map.png, corner_map.md, corner_map.json.\n"
-                "figure1: the chair and the end table (Fig. 1): figure1_chair.png, figure1_table.png, figure1.md.");
+                "figure1: the chair and the end table (Fig. 1): figure1_chair.png, figure1_table.png, figure1.md, figure1.json.\n"
+                "Each experiment's files are one set, its JSON written last naming every file with its SHA-256. Ctrl-C (SIGINT) "
+                "or SIGTERM stops the running drape and exits with 130 or 143 without writing: the folder keeps the previous set.");
     sub->add_option("EXPERIMENT", o->which, "cube, map or figure1")->required()->check(CLI::IsMember({"cube", "map", "figure1"}));
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")->capture_default_str()->check(CLI::Range(1, 100));
@@ -544,12 +593,17 @@ void add_experiment_command(CLI::App& app, int& exit_code)
         for (const CLI::Option* opt : sub->get_options())
             if (opt->count() > 0 && opt->get_name() != "EXPERIMENT" && !opt->get_lnames().empty())
                 command += " --" + opt->get_lnames()[0] + " " + opt->as<std::string>();
-        if (o->which == "cube")
-            exit_code = run_cube(*o, command);
-        else if (o->which == "map")
-            exit_code = run_map(*o, command);
-        else
-            exit_code = run_figure1(*o, command);
+        try {
+            if (o->which == "cube")
+                exit_code = run_cube(*o, command);
+            else if (o->which == "map")
+                exit_code = run_map(*o, command);
+            else
+                exit_code = run_figure1(*o, command);
+        } catch (const ExperimentInterrupted&) {
+            std::cerr << "woven: interrupted; nothing written (the folder keeps the previous complete set)\n";
+            exit_code = interrupted_exit_code();
+        }
     });
 }
 

@@ -248,8 +248,7 @@ int fit_and_write(const FitOptions& options)
     io::OutputSet set(dir, names);
     for (const auto& o : outputs) {
         if (o.image) {
-            render::write_png(*o.image, set.temp_path(o.name));
-            set.added(o.name);
+            set.add(o.name, render::encode_png(*o.image, join_path(dir, o.name)));
         } else {
             set.add(o.name, o.contents);
         }

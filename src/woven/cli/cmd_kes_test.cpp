@@ -18,11 +18,14 @@
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/material.hpp"
+#include "woven/cli/report.hpp"
+#include "woven/cli/resources.hpp"
 #include "woven/cli/run_checks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_set.hpp"
 #include "woven/render/image.hpp"
 #include "woven/render/plot.hpp"
 #include "woven/testers/cantilever.hpp"
@@ -124,13 +127,45 @@ double shape_error(const testers::CantileverShape& sim, const testers::ElasticaS
     return e;
 }
 
-void write_png_atomic(const render::Image& image, const std::string& path)
+/// Refuses (exit 2, the estimate and the limit) a run whose largest specimen would not fit in
+/// the memory the process has (issue 36): the particle counts as the testers lay them out
+/// (kes_shear.hpp, kes_bending.hpp, cantilever.hpp), the cantilever's overhang taken as three
+/// Peirce bending lengths (B / W)^(1/3) (its 41.5 degree chord is near two), its convergence
+/// study at a quarter of the spacing.
+void check_specimen_memory(const kes::FabricData& fabric, bool cantilever, bool bending, bool shear, bool convergence,
+                           std::optional<double> sigma_cm, double shear_length_m, bool shear_length_given)
 {
-    const std::string tmp = path + ".tmp";
-    render::write_png(image, tmp);
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) throw RuntimeError("cannot write " + path + ": " + ec.message());
+    long long largest = 0;
+    std::string field = "--sigma-cm";
+    auto consider = [&](long long n, const std::string& f) {
+        if (n > largest) {
+            largest = n;
+            field = f;
+        }
+    };
+    auto rounded = [](double v) { return static_cast<long long>(std::llround(v)); };
+    if (shear) {
+        const double s = (sigma_cm ? *sigma_cm : kDefaultShearSigmaCm) * units::kCmToM;
+        const double gap = testers::ShearTestOptions{}.gap;
+        const long long N = std::max(2LL, rounded(gap / s));
+        consider((N + 1) * std::max(2LL, rounded(shear_length_m / (gap / N)) + 1), shear_length_given && !sigma_cm ? "--shear-length-cm" : "--sigma-cm");
+    }
+    if (bending) {
+        const testers::BendingTestOptions b;
+        const double s = (sigma_cm ? *sigma_cm : kDefaultBendingSigmaCm) * units::kCmToM;
+        const long long span = std::max(3LL, rounded(b.gap / s));
+        consider((span + 2) * std::max(2LL, rounded(b.width / (b.gap / span)) + 1), "--sigma-cm");
+    }
+    if (cantilever) {
+        const KesValues v = kes_values(fabric);
+        const double c_m = std::cbrt(std::max(v.B_warp, v.B_weft) / (v.W * 1e-3)) * units::kCmToM;
+        double s = (sigma_cm ? *sigma_cm : kDefaultCantileverSigmaCm) * units::kCmToM;
+        if (convergence) s = (sigma_cm ? *sigma_cm : 2 * kDefaultCantileverSigmaCm) * units::kCmToM / 4;
+        const double w = testers::CantileverOptions{}.width;
+        if (std::isfinite(c_m)) consider(std::max(3LL, rounded(3 * c_m / s)) * std::max(2LL, rounded(w / s) + 1), "--sigma-cm");
+    }
+    check_memory_estimate(estimate_tester_memory(largest), largest, kCommandLine, field,
+                          field == "--sigma-cm" ? "use a larger --sigma-cm" : "use a shorter --shear-length-cm");
 }
 
 /// The cantilever's convergence study: at overhangs L/c = 1 .. 3 (c the elastica's bending
@@ -181,7 +216,8 @@ nlohmann::json cantilever_convergence(const kes::FabricData& fabric, testers::Di
 
 int run_kes_test(const KesTestOptions& options)
 {
-    // Everything is checked before anything runs or is written.
+    // Everything is checked before anything runs or is written: every option first, then the
+    // fabric, the memory the largest specimen needs and the output folder.
     const bool run_cantilever = options.test == "all" || options.test == "cantilever";
     const bool run_bending = options.test == "all" || options.test == "bending";
     const bool run_shear = options.test == "all" || options.test == "shear";
@@ -194,6 +230,8 @@ int run_kes_test(const KesTestOptions& options)
     if (options.direction == "weft" || options.direction == "both") directions.push_back(testers::Direction::WEFT);
     if (directions.empty()) throw InputError(kCommandLine, "--direction", "expected warp, weft or both, got '" + options.direction + "'");
     const std::optional<double> sigma_cm = options.sigma_cm ? std::optional<double>(parse_number(*options.sigma_cm, "--sigma-cm", 0.02, 2.0)) : std::nullopt;
+    const double shear_length_m =
+        options.shear_length_cm ? parse_number(*options.shear_length_cm, "--shear-length-cm", 5, 200) * units::kCmToM : testers::ShearTestOptions{}.length;
     model::ModelOptions mo;
     if (options.bending_form)
         mo.bending_form = parse_choice(*options.bending_form, "--bending-form", {"work", "secant"}) == 0 ? model::BendingForm::WORK
@@ -208,11 +246,25 @@ int run_kes_test(const KesTestOptions& options)
     std::vector<std::string> warnings;
     const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
     print_warnings(warnings);
-    with_fabric_source(fabric_source(options.fabric), [&] { resolve_shear_law(fabric, mo); });
+    check_specimen_memory(fabric, run_cantilever, run_bending, run_shear, options.convergence, sigma_cm, shear_length_m,
+                          options.shear_length_cm.has_value());
     std::string name = fabric.name.empty() ? std::filesystem::path(options.fabric).stem().string() : fabric.name;
     std::string safe;
     for (char c : name) safe += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
     const std::string dir = options.out ? *options.out : join_path("out", "kes-" + safe);
+    // The set: every file a kes-test run can write (those this run does not write are removed
+    // when it publishes, kes-report.json last: io::OutputSet).
+    std::vector<std::string> members;
+    for (const char* t : {"cantilever", "bending", "shear"}) {
+        for (const char* d : {"warp", "weft"}) members.push_back(std::string(t) + "_" + d + ".csv");
+        members.push_back(std::string(t) + ".png");
+    }
+    make_output_dir(dir);
+    members.push_back("kes-report.json");
+    check_output_targets(dir, members);
+    members.pop_back();
+    io::OutputSet set(dir, members);
+    with_fabric_source(fabric_source(options.fabric), [&] { resolve_shear_law(fabric, mo); });
 
     const double gf_cm2_per_cm = units::newton_per_gram_force(mo.gram_force) * units::kCmToM;  // N m per gf.cm2/cm
     std::vector<Row> rows;
@@ -302,7 +354,7 @@ int run_kes_test(const KesTestOptions& options)
     if (run_shear) {
         testers::ShearTestOptions so;
         so.sigma = (sigma_cm ? *sigma_cm : kDefaultShearSigmaCm) * units::kCmToM;
-        if (options.shear_length_cm) so.length = parse_number(*options.shear_length_cm, "--shear-length-cm", 5, 200) * units::kCmToM;
+        so.length = shear_length_m;
         so.model = mo;
         std::vector<testers::KesCurveResult> results;
         for (testers::Direction d : directions) {
@@ -370,20 +422,15 @@ int run_kes_test(const KesTestOptions& options)
     }
     report["tests"] = tests;
     if (options.convergence) report["cantilever_convergence"] = convergence;
-    make_output_dir(dir);
-    std::vector<std::string> files;
-    for (const auto& [f, text] : csv) {
-        io::write_file_atomic(join_path(dir, f), text);
-        files.push_back(f);
-    }
-    for (const auto& [f, image] : png) {
-        write_png_atomic(image, join_path(dir, f));
-        files.push_back(f);
-    }
-    files.push_back("kes-report.json");
-    report["files"] = files;
-    io::write_file_atomic(join_path(dir, "kes-report.json"), report.dump(2) + "\n");
-    std::cout << "wrote " << files.size() << " files to " << dir << "\n";
+    // Every number written is finite (a test that could not measure is null in the report, as
+    // documented; its tables must hold numbers), then one set, kes-report.json last.
+    for (const auto& [f, text] : csv) require_finite_csv(text, f, "kes-test");
+    for (const auto& [f, text] : csv) set.add(f, text);
+    for (const auto& [f, image] : png) set.add(f, render::encode_png(image, join_path(dir, f)));
+    report["files"] = set.files_json();
+    set.publish("kes-report.json", report.dump(2) + "\n");
+    const std::size_t written = set.names().size() + 1;
+    std::cout << "wrote " << written << " files to " << dir << "\n";
     return kExitOk;
 }
 
@@ -394,7 +441,8 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
     sub->footer("Each test is a static simulation of a specimen of the model's particles (docs/VALIDATION.md says how each maps onto the "
                 "grid). Prints input vs simulated summary values and writes to --out (default out/kes-<name>): <test>_<direction>.csv, "
                 "cantilever.png, bending.png, shear.png and kes-report.json (list 'tests': test, direction, sigma_m, input_summary, "
-                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m; shear also central_summary, central_rel_error: the middle half of the clamp, away from the free short edges).");
+                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m; shear also central_summary, central_rel_error: the middle half of the clamp, away from the free short edges). The files are one set: "
+                "kes-report.json is written last and names every file with its size and SHA-256; files of an earlier run's other tests are removed.");
     sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")->required();
     sub->add_option("--test", options->test, "cantilever, bending, shear or all")->capture_default_str();
     sub->add_option("--direction", options->direction, "warp, weft or both")->capture_default_str();

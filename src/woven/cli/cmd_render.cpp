@@ -1,6 +1,7 @@
 // woven render MESH: a picture of a draped cloth (drape.obj) over a scene's obstacles, from one
 // of the views of the paper's Fig. 8.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -19,8 +20,10 @@
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/input_file.hpp"
 #include "woven/io/mesh_file.hpp"
+#include "woven/io/output.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/render/drape_view.hpp"
+#include "woven/render/image.hpp"
 
 namespace woven::cli {
 
@@ -64,6 +67,15 @@ int run_render(const RenderCommandOptions& o)
     const auto view = render::parse_view(view_name);
     if (!view) throw InputError(kCommandLine, "--view", "expected front, corner, side, top or scene");
     if (o.out.empty()) throw InputError(kCommandLine, "--out", "expected a PNG file name");
+    {
+        // A directory (or anything but a file) is bad usage, as for the other commands.
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        const auto st = fs::symlink_status(o.out, ec);
+        if (!ec && fs::is_directory(st)) throw InputError(kCommandLine, "--out", o.out + " is a directory; expected a PNG file name");
+        if (!ec && fs::exists(st) && !fs::is_regular_file(st))
+            throw InputError(kCommandLine, "--out", o.out + " exists and is not a regular file");
+    }
 
     std::vector<std::string> warnings;
     std::optional<io::SceneSpec> scene;
@@ -86,6 +98,10 @@ int run_render(const RenderCommandOptions& o)
         cloth.spacing_m = mesh.faces.empty() ? 0 : len / mesh.faces.size();
     }
 
+    // The folder is created as the other commands create theirs (before the picture is made);
+    // the file is written under a unique temporary name and renamed into place.
+    if (const auto parent = std::filesystem::path(o.out).parent_path(); !parent.empty()) make_output_dir(parent.string());
+
     geometry::ObstacleSet floor_only;  // without a scene: a floor under the lowest vertex
     if (!scene) {
         double zmin = mesh.vertices.front().z();
@@ -95,7 +111,7 @@ int run_render(const RenderCommandOptions& o)
     const render::DrapeScene ds
         = scene_view(std::move(cloth), scene ? scene->obstacles : floor_only, fabric, scene ? &scene->camera : nullptr);
     const render::Image img = render_view(ds, *view, width, height);
-    render::write_png(img, o.out);
+    io::write_file_atomic(o.out, render::encode_png(img, o.out));
     std::cout << "wrote " << o.out << " (" << width << " x " << height << ", view " << render::view_name(*view) << ")\n";
     return kExitOk;
 }

@@ -28,6 +28,11 @@ constexpr double kAddressSpaceBaseBytes = 400e6;
 constexpr double kAddressSpacePerThreadBytes = 72e6;  ///< a glibc malloc arena (64 MiB) and a stack (8 MiB)
 /// Margin on the estimate before comparing it with a limit.
 constexpr double kMargin = 1.25;
+/// The virtual instruments' static solves (woven kes-test): peak RSS of `kes-test cotton --test
+/// shear --direction warp` at --sigma-cm 0.25 (1,701 particles, 30.8 MB) and 0.1 (10,251
+/// particles, 129.7 MB), /usr/bin/time -v, through base + per_particle_log * n log2(n).
+constexpr double kTesterRssBaseBytes = 15.5e6;
+constexpr double kTesterRssPerParticleLogBytes = 836;
 
 /// The process's cgroup v2 folder ("/sys/fs/cgroup/<path>"), or "" when not on cgroup v2.
 std::string cgroup_dir()
@@ -107,6 +112,15 @@ MemoryEstimate estimate_drape_memory(long long particles, int threads)
     e.resident_bytes = kMargin * ((threaded ? kRssBaseBytesThreaded : kRssBaseBytes) +
                                   (threaded ? kRssPerParticleLogBytesThreaded : kRssPerParticleLogBytes) * n * std::log2(n));
     e.address_space_bytes = e.resident_bytes + kAddressSpaceBaseBytes + kAddressSpacePerThreadBytes * std::max(threads, 1);
+    return e;
+}
+
+MemoryEstimate estimate_tester_memory(long long particles)
+{
+    const double n = static_cast<double>(std::max(particles, 2LL));
+    MemoryEstimate e;
+    e.resident_bytes = kMargin * (kTesterRssBaseBytes + kTesterRssPerParticleLogBytes * n * std::log2(n));
+    e.address_space_bytes = e.resident_bytes + kAddressSpaceBaseBytes + kAddressSpacePerThreadBytes;
     return e;
 }
 

@@ -31,4 +31,9 @@ struct MemoryEstimate {
 };
 MemoryEstimate estimate_drape_memory(long long particles, int threads);
 
+/// Estimated peak memory of a virtual instrument's static solve (woven kes-test) on a specimen
+/// of `particles` particles, one thread: the same form, fitted to kes-test's own peaks
+/// (docs/RELIABILITY.md).
+MemoryEstimate estimate_tester_memory(long long particles);
+
 }  // namespace woven::cli

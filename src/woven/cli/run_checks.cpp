@@ -51,15 +51,20 @@ ThreadCount choose_threads(int requested)
 
 void check_memory(long long particles, int threads, const std::string& source, const std::string& field)
 {
+    check_memory_estimate(estimate_drape_memory(particles, threads), particles, source, field, "use a smaller grid");
+}
+
+void check_memory_estimate(const MemoryEstimate& e, long long particles, const std::string& source, const std::string& field,
+                           const std::string& advice)
+{
     const MemoryLimit limit = memory_limit();
     if (limit.bytes <= 0) return;
-    const MemoryEstimate e = estimate_drape_memory(particles, threads);
     const double need = limit.virtual_memory ? e.address_space_bytes : e.resident_bytes;
     if (need <= limit.bytes) return;
     throw InputError(source, field,
                      std::to_string(particles) + " particles need about " + gb(need) +
                          (limit.virtual_memory ? " of address space" : "") + " (estimate), more than the " +
-                         gb(limit.bytes) + " of " + limit.what + "; use a smaller grid");
+                         gb(limit.bytes) + " of " + limit.what + "; " + advice);
 }
 
 void check_output_targets(const std::string& dir, const std::vector<std::string>& names)

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "woven/cli/resources.hpp"
 #include "woven/common/types.hpp"
 
 namespace woven::cli {
@@ -23,6 +24,10 @@ ThreadCount choose_threads(int requested);
 /// Refuses (InputError "<source>: <field>: ... needs about X GB ..., more than the Y GB of
 /// <limit>") a drape whose estimated memory exceeds the process's limit.
 void check_memory(long long particles, int threads, const std::string& source, const std::string& field);
+/// The same check for a memory estimate made elsewhere (kes-test's specimens); `advice` ends
+/// the message ("use a larger --sigma-cm").
+void check_memory_estimate(const MemoryEstimate& estimate, long long particles, const std::string& source,
+                           const std::string& field, const std::string& advice);
 
 /// Each `dir`/name that exists must be a regular file (bad usage otherwise: InputError
 /// "command line: --out: <path> exists and is not a regular file").

@@ -66,9 +66,11 @@ geometry::TriangleMesh parse_obj_mesh(std::string_view text, const std::string& 
             Vec3 p;
             for (int c = 0; c < 3; ++c) {
                 const std::string_view s = t[1 + c];
+                // from_chars takes no '+': "+0.2" (as some writers print) is read without it.
+                const std::string_view digits = s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+' ? s.substr(1) : s;
                 double v = 0;
-                const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-                if (r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(v) ||
+                const auto r = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+                if (r.ec != std::errc() || r.ptr != digits.data() + digits.size() || !std::isfinite(v) ||
                     std::abs(v) > kMaxObjCoordinate)
                     fail("v", "expected a number in [-" + std::to_string(static_cast<long long>(kMaxObjCoordinate)) +
                                   ", " + std::to_string(static_cast<long long>(kMaxObjCoordinate)) + "], got " +

@@ -71,6 +71,41 @@ private:
     int fd_ = -1;
 };
 
+/// SIGINT, SIGTERM and SIGHUP wait while a set is published: for the scope a handler only
+/// records them; at its end the previous handlers are restored and a recorded signal is raised
+/// again (the default action then ends the process, woven's own handler sets its flag). So a
+/// signal never stops a publish half way (SIGKILL still can: the set then has no manifest).
+std::atomic<int> g_deferred_signal{0};
+
+extern "C" void record_signal(int sig)
+{
+    int none = 0;
+    g_deferred_signal.compare_exchange_strong(none, sig);
+}
+
+class DeferSignals {
+public:
+    DeferSignals()
+    {
+        struct sigaction sa {};
+        sa.sa_handler = record_signal;
+        sigemptyset(&sa.sa_mask);
+        sa.sa_flags = SA_RESTART;
+        for (int k = 0; k < 3; ++k) sigaction(kSignals[k], &sa, &old_[k]);
+    }
+    DeferSignals(const DeferSignals&) = delete;
+    DeferSignals& operator=(const DeferSignals&) = delete;
+    ~DeferSignals()
+    {
+        for (int k = 0; k < 3; ++k) sigaction(kSignals[k], &old_[k], nullptr);
+        if (const int sig = g_deferred_signal.exchange(0)) ::raise(sig);
+    }
+
+private:
+    static constexpr int kSignals[3] = {SIGINT, SIGTERM, SIGHUP};
+    struct sigaction old_[3] {};
+};
+
 }  // namespace
 
 int remove_stale_temporaries(const std::string& dir)
@@ -154,6 +189,7 @@ void OutputSet::publish(const std::string& manifest_name, std::string_view manif
 {
     const std::string manifest_temp = temp_path(manifest_name);
     write_all(manifest_temp, manifest_contents, path_in(dir_, manifest_name));
+    const DeferSignals defer;  // declared before the lock: a deferred signal is raised after it is released
     const DirLock lock(dir_);
     // Nothing that is in the way may be a directory (or anything but a file): check first, so
     // that a failure leaves the previous set as it was.

@@ -6,7 +6,8 @@
 // (so two runs sharing a directory take turns): removes the old manifest,
 // renames the new files into place, removes the set's other files left by an earlier run, and
 // writes the manifest (report.json) last, naming every file of the set with its size and
-// SHA-256. A directory holds a complete set exactly when its manifest exists and every file it
+// SHA-256 (SIGINT, SIGTERM and SIGHUP wait while it does: raised again once it is done, so only
+// SIGKILL can stop a publish half way). A directory holds a complete set exactly when its manifest exists and every file it
 // names has that checksum. Temporaries of processes that no longer run are removed when a set
 // is opened; an unpublished set removes its own when destroyed.
 #include <cstdint>

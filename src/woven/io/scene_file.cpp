@@ -115,6 +115,8 @@ model::Outline parse_outline(const TomlTable& t)
         const toml::node* n = t.node("points_m");
         const toml::array* a = n ? n->as_array() : nullptr;
         if (!a) t.fail("points_m", "expected an array of [x, y] points in m");
+        if (a->size() > model::kMaxOutlinePoints)  // before the self-intersection test, O(n^2)
+            t.fail("points_m", "expected at most " + std::to_string(model::kMaxOutlinePoints) + " points, got " + std::to_string(a->size()));
         for (std::size_t k = 0; k < a->size(); ++k) {
             const std::string field = t.field("points_m") + "[" + std::to_string(k + 1) + "]";
             const toml::array* xy = a->get(k)->as_array();

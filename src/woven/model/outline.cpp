@@ -99,6 +99,8 @@ void validate_outline(const Outline& o, const std::string& source, const std::st
         Ring r = o.points;
         if (r.size() >= 2 && r.front() == r.back()) r.pop_back();  // an explicitly closed polygon
         if (r.size() < 3) bad("points_m", "expected at least 3 points [x, y] in m");
+        if (r.size() > kMaxOutlinePoints)
+            bad("points_m", "expected at most " + std::to_string(kMaxOutlinePoints) + " points, got " + std::to_string(r.size()));
         for (size_t k = 0; k < r.size(); ++k) {
             if (!r[k].allFinite()) bad("points_m", "expected finite coordinates in m (point " + std::to_string(k) + ")");
             if (r[k] == r[(k + 1) % r.size()]) bad("points_m", "point " + std::to_string(k) + " repeats the next one");

@@ -15,6 +15,7 @@
 // The energy terms then exist only where their whole stencil is kept (stencils.hpp's mask), so
 // the cut edge is a free edge.
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <utility>
@@ -44,11 +45,15 @@ struct Outline {
     std::vector<Vec2> points;    ///< m, from the grid's centre (polygon), either orientation
 };
 
+/// Most points of a polygon outline: its self-intersection test compares every pair of edges
+/// (0.7 s at this size; a 200,000-point outline took 285 s), so a larger one is bad input.
+inline constexpr std::size_t kMaxOutlinePoints = 10000;
+
 /// Sides of the regular polygon standing for a circle (its area made the circle's exactly).
 inline constexpr int kCircleSegments = 720;
 
 /// Checks an outline: finite numbers; radius > 0; 0 < inner_radius < radius; a polygon with
-/// >= 3 points, non-zero area, no repeated consecutive point and no self-intersection. Throws
+/// 3 .. kMaxOutlinePoints points, non-zero area, no repeated consecutive point and no self-intersection. Throws
 /// InputError(source, field + ".<key>", ...) naming the offending key (radius_m,
 /// inner_radius_m, points_m).
 void validate_outline(const Outline& outline, const std::string& source, const std::string& field);

@@ -26,16 +26,21 @@ void append_bytes(void* context, void* data, int size)
 
 }  // namespace
 
-void write_png(const Image& image, const std::string& path)
+std::string encode_png(const Image& image, const std::string& path)
 {
     if (image.width <= 0 || image.height <= 0) fail(path, "empty image");
     if (image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
         fail(path, "pixel buffer size does not match width x height x 3");
-
     std::vector<std::uint8_t> encoded;
     const int ok = stbi_write_png_to_func(append_bytes, &encoded, image.width, image.height, 3,
                                           image.rgb.data(), image.width * 3);
     if (ok == 0 || encoded.empty()) fail(path, "PNG encoding failed");
+    return std::string(encoded.begin(), encoded.end());
+}
+
+void write_png(const Image& image, const std::string& path)
+{
+    const std::string encoded = encode_png(image, path);
 
     const std::string tmp = path + ".tmp";
     std::FILE* file = std::fopen(tmp.c_str(), "wb");

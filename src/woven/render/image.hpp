@@ -17,5 +17,9 @@ struct Image {
 /// Throws woven::RuntimeError("cannot write <path>: <reason>") on failure (including an
 /// empty image or one whose buffer size does not match), leaving no partial file behind.
 void write_png(const Image& image, const std::string& path);
+/// The PNG file's bytes (what write_png writes), for an output set that writes them itself
+/// (io::OutputSet::add, whose errors name the output, not a temporary). RuntimeError naming
+/// `name` for an empty or inconsistent image.
+std::string encode_png(const Image& image, const std::string& name);
 
 }  // namespace woven::render
