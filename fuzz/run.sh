@@ -7,10 +7,10 @@ build=${1:?usage: run.sh BUILD [SECONDS] [TARGETS...]}
 seconds=${2:-60}
 shift $(( $# >= 2 ? 2 : $# ))
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf)
+[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf values)
 root=$(cd "$(dirname "$0")/.." && pwd)
-declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets" [gltf]="$root/assets $root/fuzz/corpus/obj")
-declare -A dicts=([fabric]="$root/fuzz/toml.dict" [scene]="$root/fuzz/toml.dict" [obj]="$root/fuzz/obj.dict" [gltf]="$root/fuzz/obj.dict")
+declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets" [gltf]="$root/assets $root/fuzz/corpus/obj" [values]="")
+declare -A dicts=([fabric]="$root/fuzz/toml.dict" [scene]="$root/fuzz/toml.dict" [obj]="$root/fuzz/obj.dict" [gltf]="$root/fuzz/obj.dict" [values]="$root/fuzz/values.dict")
 status=0
 for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"

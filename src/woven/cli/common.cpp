@@ -6,7 +6,9 @@
 
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/run_checks.hpp"
 #include "woven/common/error.hpp"
+#include "woven/io/fabric_file.hpp"
 
 namespace woven::cli {
 
@@ -53,6 +55,16 @@ std::string safe_file_name(const std::string& text)
 std::string join_path(const std::string& dir, const std::string& name)
 {
     return (std::filesystem::path(dir) / name).string();
+}
+
+kes::FabricData command_fabric(const std::string& name, const GivenFabric& given, std::vector<std::string>* warnings)
+{
+    return given.data ? *given.data : io::find_fabric(name, warnings);
+}
+
+std::string command_fabric_source(const std::string& name, const GivenFabric& given)
+{
+    return given.data ? given.source : fabric_source(name);
 }
 
 }  // namespace woven::cli
