@@ -33,7 +33,7 @@ nlohmann::json value(py::handle v, const std::string& source, const std::string&
             if (!PyErr_Occurred()) return u;  // io refuses it above 2^63 - 1, naming the field
             PyErr_Clear();
         }
-        throw fail("expected an integer within 64 bits, got " + py::str(v).cast<std::string>().substr(0, 40));
+        throw fail("expected an integer within 64 bits (at most 9223372036854775807), got " + py::str(v).cast<std::string>().substr(0, 40));
     }
     if (PyFloat_Check(v.ptr())) return PyFloat_AsDouble(v.ptr());
     if (PyUnicode_Check(v.ptr())) return v.cast<std::string>();

@@ -43,7 +43,7 @@ std::unique_ptr<toml::node> node_from_value(const nlohmann::json& v, const std::
     case T::number_unsigned: {
         const std::uint64_t u = v.get<std::uint64_t>();
         if (u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
-            throw InputError(source, field, "expected an integer within 64 bits (at most 9223372036854775807)");
+            throw InputError(source, field, "expected an integer within 64 bits (at most 9223372036854775807), got " + std::to_string(u));
         return std::make_unique<toml::value<std::int64_t>>(static_cast<std::int64_t>(u));
     }
     case T::number_float: return std::make_unique<toml::value<double>>(v.get<double>());
