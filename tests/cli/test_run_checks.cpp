@@ -91,3 +91,18 @@ TEST(RunChecks, FittingErrorsNameTheFabricFile)
     EXPECT_EQ(cli::fabric_source("cotton"), "built-in fabric 'cotton'");
     EXPECT_EQ(cli::fabric_source("a/b.toml"), "a/b.toml");
 }
+
+// Issue 36, defect 3: every table a command writes is checked finite before it is published.
+TEST(RunChecks, NoTableWithANonFiniteNumber)
+{
+    EXPECT_NO_THROW(cli::require_finite_csv("a,b\n1,2\nsimulated,3e-5\n", "t.csv", "fit"));
+    EXPECT_NO_THROW(cli::require_finite_csv("nan,inf\n1,2\n", "t.csv", "fit"));  // a header is text
+    for (const char* bad : {"a,b\n1,2\n3,-nan\n", "a,b\n1,2\n3,nan\n", "a,b\n1,2\ninf,4\n", "a,b\n1,2\n3,-inf\n"}) {
+        try {
+            cli::require_finite_csv(bad, "t.csv", "fit");
+            ADD_FAILURE() << bad;
+        } catch (const RuntimeError& e) {
+            EXPECT_STREQ(e.what(), "fit ended with a non-finite number (t.csv, line 3); no outputs written");
+        }
+    }
+}

@@ -214,6 +214,14 @@ std::string check_folder(const fs::path& dir, Findings& f)
 
 }  // namespace
 
+std::vector<std::string> check_output_folder(const std::string& dir, std::string* what)
+{
+    Findings f;
+    const std::string w = check_folder(fs::path(dir), f);
+    if (what) *what = w;
+    return f.problems;
+}
+
 int run_check(const CheckOptions& options)
 {
     Findings f;

@@ -23,6 +23,7 @@
 #include "woven/cli/report.hpp"
 #include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
+#include "woven/io/corner_map_file.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/scene_file.hpp"
@@ -336,50 +337,30 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     };
     std::vector<Cell> cells;
     nlohmann::json jcells = nlohmann::json::array();
-    // --reuse: the drapes of an earlier run (its corner_map.json), analysed again (no draping).
-    nlohmann::json reused;
-    if (o.reuse) {
-        std::ifstream in(*o.reuse);
-        if (!in) throw InputError(*o.reuse, "file", "cannot read the corner_map.json to reuse");
-        try {
-            reused = nlohmann::json::parse(in);
-        } catch (const std::exception&) {
-            throw InputError(*o.reuse, "json", "expected the corner_map.json an earlier `woven experiment map` wrote");
-        }
-        if (!reused.is_object() || !reused.contains("cells") || !reused["cells"].is_array())
-            throw InputError(*o.reuse, "cells", "expected the corner_map.json an earlier `woven experiment map` wrote");
-    }
-    make_output_dir(o.out);  // after every input is read: a bad one writes nothing
-    auto reused_cell = [&](double r, double c) -> const nlohmann::json& {
-        for (const auto& jc : reused["cells"])
-            if (jc.contains("ratio_warp_weft") && jc.contains("bending_length_cm") && jc["ratio_warp_weft"].is_number()
-                && jc["bending_length_cm"].is_number() && std::abs(jc["ratio_warp_weft"].get<double>() - r) < 1e-9 * r
-                && std::abs(jc["bending_length_cm"].get<double>() - c) < 1e-9 * c)
-                return jc;
+    // --reuse: the drapes of an earlier run (its corner_map.json), analysed again (no draping);
+    // read and checked whole before anything is written (io::load_corner_map).
+    std::optional<io::CornerMap> reused;
+    if (o.reuse) reused = io::load_corner_map(*o.reuse);
+    auto reused_cell = [&](double r, double c) -> const io::CornerMapCell& {
+        for (const auto& cell : reused->cells)
+            if (std::abs(cell.ratio_warp_weft - r) < 1e-9 * r && std::abs(cell.bending_length_cm - c) < 1e-9 * c) return cell;
         throw InputError(*o.reuse, "cells",
                          "no drape for ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm (use the same --map-grid)");
     };
+    if (reused)
+        for (double r : ratios)
+            for (double c : lengths) reused_cell(r, c);
+    make_output_dir(o.out);  // after every input is read: a bad one writes nothing
     for (double r : ratios)
         for (double c : lengths) {
             Outcome d;
             nlohmann::json jc;
             std::vector<std::vector<analysis::Billow>> corner_billows(4);
             if (o.reuse) {
-                jc = reused_cell(r, c);
-                d.converged = jc.value("converged", false);
-                const auto& jf = jc["folds"];
-                if (jf.is_object())
-                    for (int k = 0; k < 4; ++k) {
-                        const auto& a = jf["corners"][k]["angles_deg"][0];
-                        const auto& so = jf["corners"][k]["standout_m"][0];
-                        for (std::size_t m = 0; m < a.size(); ++m) {
-                            analysis::Billow b;
-                            b.corner = k;
-                            b.angle_deg = a[m].is_number() ? a[m].get<double>() : 0.0;
-                            b.standout_m = so[m].is_number() ? so[m].get<double>() : 0.0;
-                            corner_billows[k].push_back(b);
-                        }
-                    }
+                const io::CornerMapCell& rc = reused_cell(r, c);
+                jc = rc.json;
+                d.converged = rc.converged;
+                for (int k = 0; k < 4; ++k) corner_billows[k] = rc.corners[k];
             } else {
                 std::vector<std::string> w;
                 const kes::FabricData fab = io::parse_fabric(synthetic_fabric(r, c, cv.W, cv.G), "synthetic fabric", &w);
@@ -395,7 +376,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
             cell.converged = d.converged;
             std::map<Structure, int> count;
             int singles = 0;
-            if (o.reuse || d.folds)
+            if (o.reuse ? reused_cell(r, c).has_folds : d.folds.has_value())
                 for (int k = 0; k < 4; ++k) {
                     const auto all = corner_billows[k];
                     const auto b = leaving(all);
@@ -473,8 +454,8 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     std::ostringstream md;
     md << "# Corner-structure map\n\n" << provenance(command) << "\n\n";
     if (o.reuse)
-        md << "The drapes are those of `" << reused.value("command", std::string("?")) << "` (woven "
-           << reused.value("version", std::string("?")) << "), read back from its corner_map.json and analysed again.\n\n";
+        md << "The drapes are those of `" << (reused->command.empty() ? "?" : reused->command) << "` (woven "
+           << (reused->version.empty() ? "?" : reused->version) << "), read back from its corner_map.json and analysed again.\n\n";
     md << "Synthetic fabrics with the cotton's W (" << cv.W << " mg/cm2) and shear (G " << cv.G
        << " gf/(cm.deg)), bending from the bending length c and the warp/weft ratio; one drape each (seed 1) over the cube, "
        << "section 0.10 m below the top. Cell: the structure most corners show, the mean count per corner of billows leaving it (within "
@@ -500,7 +481,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     io::write_file_atomic(join_path(o.out, "corner_map.md"), md.str());
     nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"cells", jcells}};
     if (o.reuse)
-        j["drapes_from"] = {{"file", *o.reuse}, {"command", reused.value("command", "")}, {"version", reused.value("version", "")}};
+        j["drapes_from"] = {{"file", *o.reuse}, {"command", reused->command}, {"version", reused->version}};
     io::write_file_atomic(join_path(o.out, "corner_map.json"), j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "corner_map.png") << ", corner_map.md, corner_map.json\n";
     return kExitOk;

@@ -19,6 +19,7 @@
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
+#include "woven/io/scene_file.hpp"
 #include "woven/kes/fit.hpp"
 #include "woven/model/curvature.hpp"
 #include "woven/model/energy_functions.hpp"
@@ -192,7 +193,9 @@ namespace {
 
 int fit_and_write(const FitOptions& options)
 {
-    const double sigma_cm = parse_positive(options.sigma_cm, "--sigma-cm", 100);
+    // Bounded as kes-test bounds its own: from drape's smallest particle spacing (1e-4 m,
+    // io::kMinSigma_m) to 1 m; outside, the energy functions are not numbers (1e-160 gave NaN).
+    const double sigma_cm = parse_number(options.sigma_cm, "--sigma-cm", io::kMinSigma_m * units::kMToCm, 100);
     const std::string out_dir = options.out ? parse_path(*options.out, "--out") : std::string();
     std::vector<std::string> warnings;
     const kes::FabricData fabric = command_fabric(options.fabric, options.given_fabric, &warnings);
@@ -231,6 +234,10 @@ int fit_and_write(const FitOptions& options)
     text += "trellis: phi_e " + g(trellis.last_measured_angle(), 4) + " rad, continuation T = a / (1.05 - phi) + b "
             "with a " + g(trellis.continuation_a(), 4) + " J.rad, b " + g(trellis.continuation_b(), 4) + " J\n";
 
+    // Every number written is finite (exit 1 and nothing published otherwise).
+    for (const auto& o : outputs)
+        if (!o.image) require_finite_csv(o.contents, o.name, "fit");
+
     // One set: staged, then published with report.json last (io::OutputSet).
     make_output_dir(dir);
     std::vector<std::string> names;
@@ -249,6 +256,7 @@ int fit_and_write(const FitOptions& options)
     }
     nlohmann::json report = {{"version", WOVEN_VERSION}, {"command", "fit"}, {"fabric", name},
                              {"fabric_source", command_fabric_source(options.fabric, options.given_fabric)}, {"sigma_cm", sigma_cm}};
+    require_finite(report, "fit");
     report["files"] = set.files_json();
     set.publish("report.json", report.dump(2) + "\n");
     std::cout << text << "wrote " << outputs.size() + 1 << " files to " << dir << "\n";
@@ -267,7 +275,7 @@ void add_fit_command(CLI::App& app, int& exit_code)
     sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")
         ->required();
     sub->add_option("--out", options->out, "Output directory (default out/fit-<name>)");
-    sub->add_option("--sigma-cm", options->sigma_cm, "Particle spacing sigma for the energy tables, cm")
+    sub->add_option("--sigma-cm", options->sigma_cm, "Particle spacing sigma for the energy tables, cm (0.01 .. 100: drape's smallest spacing to 1 m)")
         ->capture_default_str();
     sub->callback([options, &exit_code] { exit_code = run_fit(*options); });
 }

@@ -17,6 +17,7 @@
 #include "woven/common/error.hpp"
 #include "woven/geometry/primitives.hpp"
 #include "woven/io/fabric_file.hpp"
+#include "woven/io/input_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/render/drape_view.hpp"
@@ -44,10 +45,10 @@ std::pair<int, int> parse_size(const std::string& s)
     return {w, h};
 }
 
-/// The grid size written by io::cloth_obj ("# grid NU x NV particles"), if the file has one.
-std::optional<std::pair<int, int>> obj_grid(const std::string& path)
+/// The grid size written by io::cloth_obj ("# grid NU x NV particles"), if the text has one.
+std::optional<std::pair<int, int>> obj_grid(const std::string& text)
 {
-    std::ifstream in(path);
+    std::istringstream in(text);
     std::string line;
     for (int n = 0; n < 20 && std::getline(in, line); ++n) {
         int nu = 0, nv = 0;
@@ -71,9 +72,10 @@ int run_render(const RenderCommandOptions& o)
     const kes::FabricData fabric = io::find_fabric(fabric_name, &warnings);
     print_warnings(warnings);
 
-    const geometry::TriangleMesh mesh = io::load_obj_mesh(o.mesh);
+    const std::string obj = io::read_input_file(o.mesh, io::kMaxObjBytes, {"mesh file", "an OBJ file"});
+    const geometry::TriangleMesh mesh = io::parse_obj_mesh(obj, o.mesh);
     render::ClothSurface cloth;
-    const auto grid = obj_grid(o.mesh);
+    const auto grid = obj_grid(obj);
     if (grid && mesh.vertices.size() == static_cast<std::size_t>(grid->first) * grid->second) {
         const Positions x(mesh.vertices.begin(), mesh.vertices.end());
         cloth = render::grid_surface(x, grid->first, grid->second);

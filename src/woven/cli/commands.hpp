@@ -116,6 +116,8 @@ void add_render_command(CLI::App& app, int& exit_code);      // cmd_render.cpp
 void add_cusick_command(CLI::App& app, int& exit_code);      // cmd_cusick.cpp
 void add_experiment_command(CLI::App& app, int& exit_code);  // cmd_experiment.cpp
 void add_check_command(CLI::App& app, int& exit_code);       // cmd_check.cpp
+void add_sweep_command(CLI::App& app, int& exit_code);       // cmd_sweep.cpp
+void add_report_command(CLI::App& app, int& exit_code);      // cmd_report.cpp
 
 int run_fabrics(const FabricsOptions& options);
 int run_scenes(const ScenesOptions& options);
@@ -124,6 +126,10 @@ int run_drape(const DrapeOptions& options);
 int run_kes_test(const KesTestOptions& options);   // cmd_kes_test.cpp
 int run_cusick(const CusickCommandOptions& options);  // cmd_cusick.cpp
 int run_check(const CheckOptions& options);
+
+/// `woven check DIR` for one output folder: the problems found, one line each (none: a complete
+/// set, its manifest's files there with their sizes and SHA-256); `what` gets the ok line's text.
+std::vector<std::string> check_output_folder(const std::string& dir, std::string* what = nullptr);
 
 /// `s` with its control characters written as \xNN, so that a message stays one line (main.cpp).
 std::string one_line(const std::string& s);

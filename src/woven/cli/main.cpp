@@ -66,6 +66,7 @@ int main(int argc, char** argv)
 #endif
     add_experiment_command(app, exit_code);
     add_check_command(app, exit_code);
+    add_sweep_command(app, exit_code);
 
     try {
         // CLI11 reports a mistyped command as "A subcommand is required"; name it instead.

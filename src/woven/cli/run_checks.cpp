@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -104,6 +105,29 @@ void require_finite(const nlohmann::json& report, const std::string& what, const
         if (std::find(optional.begin(), optional.end(), it.key()) != optional.end()) continue;
         if (auto p = first_non_finite(it.value(), it.key()))
             throw RuntimeError(what + " ended with a non-finite number (" + *p + "); no outputs written");
+    }
+}
+
+void require_finite_csv(const std::string& csv, const std::string& name, const std::string& what)
+{
+    std::size_t pos = csv.find('\n'), line = 1;
+    while (pos != std::string::npos && pos + 1 < csv.size()) {
+        ++line;
+        const std::size_t end = std::min(csv.find('\n', pos + 1), csv.size());
+        std::size_t b = pos + 1;
+        while (b <= end) {
+            std::size_t e = csv.find(',', b);
+            if (e == std::string::npos || e > end) e = end;
+            std::string field = csv.substr(b, e - b);
+            char* stop = nullptr;
+            const double v = std::strtod(field.c_str(), &stop);
+            const bool number = !field.empty() && stop == field.c_str() + field.size();
+            if (number && !std::isfinite(v))
+                throw RuntimeError(what + " ended with a non-finite number (" + name + ", line " + std::to_string(line) +
+                                   "); no outputs written");
+            b = e + 1;
+        }
+        pos = end < csv.size() ? end : std::string::npos;
     }
 }
 

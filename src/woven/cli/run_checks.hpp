@@ -47,4 +47,10 @@ void require_finite_positions(const Positions& x, const std::string& what);
 void require_finite(const nlohmann::json& report, const std::string& what,
                     const std::vector<std::string>& optional = {});
 
+/// Throws RuntimeError("<what> ended with a non-finite number (<name>, line <n>); no outputs
+/// written") if a field of the CSV text `csv` (after its header line) is a non-finite number
+/// (nan, inf, as printf or iostream write them): every table a command writes is checked
+/// before its set is published.
+void require_finite_csv(const std::string& csv, const std::string& name, const std::string& what);
+
 }  // namespace woven::cli

@@ -11,6 +11,7 @@
 
 #include "woven/common/error.hpp"
 #include "woven/io/embedded_data.hpp"
+#include "woven/io/input_file.hpp"
 #include "woven/io/toml_reader.hpp"
 
 namespace woven::io {
@@ -177,15 +178,7 @@ kes::FabricData fabric_from_values(const nlohmann::json& values, const std::stri
 
 kes::FabricData load_fabric_file(const std::string& path, std::vector<std::string>* warnings)
 {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw InputError(path, "file", "is a directory; expected a fabric .toml file");
-    if (!std::filesystem::exists(path, ec)) throw InputError(path, "file", "no such fabric file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, "file", "cannot read the fabric file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw InputError(path, "file", "cannot read the fabric file");
-    return parse_fabric(text.str(), path, warnings);
+    return parse_fabric(read_input_file(path, kMaxTomlBytes, {"fabric file", "a fabric .toml file"}), path, warnings);
 }
 
 std::vector<std::string> builtin_fabric_names()

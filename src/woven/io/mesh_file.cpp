@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "woven/common/error.hpp"
+#include "woven/io/input_file.hpp"
 #include "woven/io/toml_reader.hpp"
 
 namespace woven::io {
@@ -115,18 +116,7 @@ geometry::TriangleMesh parse_obj_mesh(std::string_view text, const std::string& 
 
 geometry::TriangleMesh load_obj_mesh(const std::string& path)
 {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "file", "no such mesh file");
-    const auto size = std::filesystem::file_size(path, ec);
-    if (!ec && size > kMaxObjBytes)
-        throw InputError(path, "file",
-                         "expected an OBJ file of at most " + std::to_string(kMaxObjBytes >> 20) + " MiB, got " +
-                             std::to_string(size) + " bytes");
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (!in && !in.eof()) throw InputError(path, "file", "cannot read the mesh file");
-    return parse_obj_mesh(text.str(), path);
+    return parse_obj_mesh(read_input_file(path, kMaxObjBytes, {"mesh file", "an OBJ file"}), path);
 }
 
 }  // namespace woven::io

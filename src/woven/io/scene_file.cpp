@@ -12,6 +12,7 @@
 #include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
 #include "woven/io/embedded_data.hpp"
+#include "woven/io/input_file.hpp"
 #include "woven/io/scene_obstacles.hpp"
 #include "woven/io/toml_reader.hpp"
 
@@ -298,15 +299,10 @@ SceneSpec parse_scene(std::string_view toml_text, const std::string& source, con
 
 SceneSpec load_scene(const std::string& path, std::vector<std::string>* warnings)
 {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw InputError(path, "file", "no such scene file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, "file", "cannot read the scene file");
-    std::ostringstream text;
-    text << in.rdbuf();
+    const std::string text = read_input_file(path, kMaxTomlBytes, {"scene file", "a scene .toml file"});
     std::string base = fs::path(path).parent_path().string();
     if (base.empty()) base = ".";
-    return parse_scene_impl(text.str(), path, base, warnings, false);
+    return parse_scene_impl(text, path, base, warnings, false);
 }
 
 std::vector<std::string> builtin_scene_names()
@@ -323,7 +319,11 @@ std::vector<std::string> builtin_scene_names()
 SceneSpec find_scene(const std::string& name_or_path, std::vector<std::string>* warnings)
 {
     std::error_code ec;
-    if (fs::is_regular_file(name_or_path, ec)) return load_scene(name_or_path, warnings);
+    // A file (or a path that names something that is not one: a FIFO, a device, a directory,
+    // refused by load_scene) before the built-in names.
+    if (fs::is_regular_file(name_or_path, ec) ||
+        (fs::exists(name_or_path, ec) && (name_or_path.find('/') != std::string::npos || name_or_path.ends_with(".toml"))))
+        return load_scene(name_or_path, warnings);
     std::string key = name_or_path;
     if (key.rfind("scenes/", 0) != 0) key = "scenes/" + key;
     if (!key.ends_with(".toml")) key += ".toml";

@@ -132,7 +132,7 @@ ObstaclePtr build_mesh(const TomlTable& t, const ObstacleContext& ctx)
     try {
         if (ctx.builtin && asset)
             mesh = parse_obj_mesh(asset->second, asset->first);
-        else if (fs::is_regular_file(path, ec))
+        else if (fs::is_regular_file(path, ec) || (!asset && fs::exists(path, ec)))  // a FIFO or device: refused by the reader
             mesh = load_obj_mesh(path.string());
         else if (asset)
             mesh = parse_obj_mesh(asset->second, asset->first);

@@ -1,5 +1,7 @@
 #include "woven/io/toml_reader.hpp"
 
+#include <algorithm>
+
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
@@ -192,9 +194,22 @@ const toml::node* TomlTable::node(std::string_view key) const
     return n;
 }
 
+std::vector<std::string> TomlTable::keys() const
+{
+    std::vector<std::pair<std::pair<int, int>, std::string>> at;
+    for (const auto& [k, n] : *table_)
+        at.push_back({{static_cast<int>(n.source().begin.line), static_cast<int>(n.source().begin.column)}, std::string(k.str())});
+    std::stable_sort(at.begin(), at.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::string> out;
+    for (auto& [pos, k] : at) out.push_back(std::move(k));
+    return out;
+}
+
 void TomlTable::fail(std::string_view key, const std::string& expected) const { reader_->fail(field(key), expected); }
 
 void TomlTable::fail_self(const std::string& expected) const { reader_->fail(path_, expected); }
+
+void TomlTable::fail_at(const std::string& field, const std::string& expected) const { reader_->fail(field, expected); }
 
 double TomlTable::to_number(const toml::node& n, const std::string& field, const Range& range) const
 {

@@ -71,10 +71,14 @@ public:
     bool has(std::string_view key) const { return table_->contains(key); }
     /// The node of a key (marked used), or nullptr.
     const toml::node* node(std::string_view key) const;
+    /// The table's keys in the order they are written in the file (does not mark them used).
+    std::vector<std::string> keys() const;
 
     [[noreturn]] void fail(std::string_view key, const std::string& expected) const;
     /// Fails naming the table itself.
     [[noreturn]] void fail_self(const std::string& expected) const;
+    /// Fails naming `field` (a full dotted field, such as an array element "axes.seed[2]").
+    [[noreturn]] void fail_at(const std::string& field, const std::string& expected) const;
 
     double number(std::string_view key, const Range& range, std::optional<double> def) const;
     std::optional<double> opt_number(std::string_view key, const Range& range) const;
