@@ -6,7 +6,9 @@ FUZZ_SECONDS ?= 60
 JOBS       ?= $(shell nproc)
 CMAKE_GEN  := -G Ninja
 
-.PHONY: all deps build build-asan build-fuzz demo test test-release test-asan fuzz bench clean
+# `make demo` builds only the `woven` binary (build-demo); `make build` and `make test` build the
+# rest: the test suite, the fuzz replays and the Python module (python/).
+.PHONY: all deps build build-demo build-asan build-fuzz demo test test-release test-asan fuzz bench clean
 
 all: build
 
@@ -19,14 +21,18 @@ $(BUILD)/build.ninja:
 build: deps $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
 
+build-demo: deps $(BUILD)/build.ninja
+	cmake --build $(BUILD) -j $(JOBS) --target woven
+
 $(ASAN_BUILD)/build.ninja:
 	cmake -S . -B $(ASAN_BUILD) $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWOVEN_SANITIZE=ON
 
 build-asan: deps $(ASAN_BUILD)/build.ninja
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 
-# The paper's cube drape with cotton: out/drape.obj, out/drape.ply, out/drape.png, out/report.json
-demo: build
+# The paper's cube drape with cotton: out/drape.obj, out/drape.ply, out/drape.glb, out/drape.png,
+# out/report.json. Builds the binary alone, not the test suite.
+demo: build-demo
 	$(BUILD)/woven drape --out out
 
 test-release: build
@@ -49,7 +55,7 @@ $(FUZZ_BUILD)/build.ninja:
 		-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined
 
 build-fuzz: deps $(FUZZ_BUILD)/build.ninja
-	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_fabric fuzz_scene fuzz_obj fuzz_gltf
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_fabric fuzz_scene fuzz_obj fuzz_gltf fuzz_values fuzz_corner_map fuzz_output_set
 
 fuzz: build-fuzz
 	bash fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)

@@ -3,7 +3,6 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
-find_package(tinyobjloader REQUIRED)
 # tinygltf (drape.glb): Debian builds the header-only library as libtinygltf (on nlohmann-json and stb).
 find_package(TinyGLTF REQUIRED)
 find_package(embree 3 REQUIRED)

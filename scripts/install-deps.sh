@@ -2,11 +2,12 @@
 # Installs the Debian 12 packages woven needs, only those that are missing (idempotent).
 set -euo pipefail
 packages=(cmake ninja-build g++ make pkg-config
-  libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libtinyobjloader-dev
+  libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
   libtinygltf-dev python3-jsonschema python3-meshio assimp-utils
   libstb-dev libembree-dev libtbb-dev libsuitesparse-dev libopenblas0-pthread
   libgtest-dev libgmock-dev libbenchmark-dev time libbullet-dev
-  clang libclang-rt-14-dev)
+  clang libclang-rt-14-dev
+  python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)

@@ -36,20 +36,6 @@ namespace woven::cli {
 
 namespace {
 
-struct CusickCommandOptions {
-    std::string fabric;
-    std::string specimen_cm = "30";
-    std::string disc_cm = "18";
-    std::optional<std::string> spacing_cm;
-    std::string seeds = "1";
-    std::string seed = "1";
-    std::optional<std::string> threads;
-    std::optional<std::string> max_steps;
-    std::optional<std::string> shear_law;
-    std::optional<std::string> out;
-    bool no_render = false;
-};
-
 constexpr int kShadowPixels = 800;  ///< shadow.png is square, this many pixels a side
 
 struct Canvas {
@@ -145,6 +131,8 @@ std::string angles_text(const std::vector<double>& a)
     return o.str();
 }
 
+}  // namespace
+
 int run_cusick(const CusickCommandOptions& o)
 {
     // 1. Validate everything before writing anything.
@@ -165,7 +153,7 @@ int run_cusick(const CusickCommandOptions& o)
     if (o.shear_law)
         co.model.shear_law = parse_shear_law(*o.shear_law, "--shear-law");
     std::vector<std::string> warnings;
-    const kes::FabricData fabric = io::find_fabric(o.fabric, &warnings);
+    const kes::FabricData fabric = command_fabric(o.fabric, o.given_fabric, &warnings);
     print_warnings(warnings);
     const std::string name = fabric.name.empty() ? o.fabric : fabric.name;
     const std::string out_dir = o.out ? parse_path(*o.out, "--out") : join_path("out", "cusick-" + safe_file_name(name));
@@ -178,7 +166,7 @@ int run_cusick(const CusickCommandOptions& o)
         const std::string what = e.what();
         throw InputError(kCommandLine, opt, what.substr(what.find(f + ": ") + f.size() + 2));
     }
-    with_fabric_source(fabric_source(o.fabric), [&] { resolve_shear_law(fabric, co.model); });
+    with_fabric_source(command_fabric_source(o.fabric, o.given_fabric), [&] { resolve_shear_law(fabric, co.model); });
     make_output_dir(out_dir);
     // Every file of the set, known before the runs: published together, cusick.json last
     // (io::OutputSet), so an interrupted or failed run never leaves a mixed directory.
@@ -300,8 +288,6 @@ int run_cusick(const CusickCommandOptions& o)
     if (!all_converged) std::cerr << "woven: warning: not every run converged (raise --max-steps)\n";
     return kExitOk;
 }
-
-}  // namespace
 
 void add_cusick_command(CLI::App& app, int& exit_code)
 {

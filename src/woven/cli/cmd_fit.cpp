@@ -185,7 +185,7 @@ int fit_and_write(const FitOptions& options);
 int run_fit(const FitOptions& options)
 {
     int code = kExitOk;  // an error of the fitting stage names the fabric's file
-    with_fabric_source(fabric_source(options.fabric), [&] { code = fit_and_write(options); });
+    with_fabric_source(command_fabric_source(options.fabric, options.given_fabric), [&] { code = fit_and_write(options); });
     return code;
 }
 
@@ -198,7 +198,7 @@ int fit_and_write(const FitOptions& options)
     const double sigma_cm = parse_number(options.sigma_cm, "--sigma-cm", io::kMinSigma_m * units::kMToCm, 100);
     const std::string out_dir = options.out ? parse_path(*options.out, "--out") : std::string();
     std::vector<std::string> warnings;
-    const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
+    const kes::FabricData fabric = command_fabric(options.fabric, options.given_fabric, &warnings);
     print_warnings(warnings);
     std::string name = fabric.name;
     if (name.empty()) name = std::filesystem::path(options.fabric).stem().string();
@@ -254,7 +254,7 @@ int fit_and_write(const FitOptions& options)
         }
     }
     nlohmann::json report = {{"version", WOVEN_VERSION}, {"command", "fit"}, {"fabric", name},
-                             {"fabric_source", fabric_source(options.fabric)}, {"sigma_cm", sigma_cm}};
+                             {"fabric_source", command_fabric_source(options.fabric, options.given_fabric)}, {"sigma_cm", sigma_cm}};
     require_finite(report, "fit");
     report["files"] = set.files_json();
     set.publish("report.json", report.dump(2) + "\n");

@@ -34,20 +34,6 @@
 
 namespace woven::cli {
 
-/// Options of `woven kes-test` (kept as text where a bad value needs the one-line error).
-struct KesTestOptions {
-    std::string fabric;
-    std::string test = "all";
-    std::string direction = "both";
-    std::optional<std::string> sigma_cm;
-    std::optional<std::string> shear_length_cm;
-    std::optional<std::string> bending_form;
-    std::optional<std::string> discretization;
-    std::optional<std::string> shear_law;
-    std::optional<std::string> out;
-    bool convergence = false;
-};
-
 namespace {
 
 constexpr double kDefaultCantileverSigmaCm = 0.25;
@@ -244,7 +230,7 @@ int run_kes_test(const KesTestOptions& options)
         mo.shear_law = parse_shear_law(*options.shear_law, "--shear-law");
     if (options.out) parse_path(*options.out, "--out");
     std::vector<std::string> warnings;
-    const kes::FabricData fabric = io::find_fabric(options.fabric, &warnings);
+    const kes::FabricData fabric = command_fabric(options.fabric, options.given_fabric, &warnings);
     print_warnings(warnings);
     check_specimen_memory(fabric, run_cantilever, run_bending, run_shear, options.convergence, sigma_cm, shear_length_m,
                           options.shear_length_cm.has_value());
@@ -264,7 +250,7 @@ int run_kes_test(const KesTestOptions& options)
     check_output_targets(dir, members);
     members.pop_back();
     io::OutputSet set(dir, members);
-    with_fabric_source(fabric_source(options.fabric), [&] { resolve_shear_law(fabric, mo); });
+    with_fabric_source(command_fabric_source(options.fabric, options.given_fabric), [&] { resolve_shear_law(fabric, mo); });
 
     const double gf_cm2_per_cm = units::newton_per_gram_force(mo.gram_force) * units::kCmToM;  // N m per gf.cm2/cm
     std::vector<Row> rows;
@@ -395,7 +381,7 @@ int run_kes_test(const KesTestOptions& options)
     nlohmann::json report = {{"version", WOVEN_VERSION},
                              {"command", "kes-test"},
                              {"fabric", name},
-                             {"fabric_source", options.fabric},
+                             {"fabric_source", options.given_fabric.data ? options.given_fabric.source : options.fabric},
                              {"bending_form", mo.bending_form == model::BendingForm::WORK ? "work" : "secant"},
                              {"discretization", mo.discretization == model::Discretization::PAPER ? "paper" : "convergent"},
                              {"shear_law", to_string(mo.shear_law)},

@@ -3,12 +3,17 @@
 // the process exit code; errors are thrown (woven::InputError -> 2, anything else -> 1) and
 // caught in main.cpp, which alone prints them.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace CLI {
 class App;
+}
+
+namespace woven::kes {
+struct FabricData;
 }
 
 namespace woven::cli {
@@ -18,6 +23,19 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
 inline constexpr int kExitInterrupted = 130;  ///< SIGINT (Ctrl-C); SIGTERM gives 143 (progress.hpp)
+
+/// A fabric given as data rather than by name or file (the Python module's woven.Fabric built
+/// from values); `source` names it in messages and reports.
+struct GivenFabric {
+    std::shared_ptr<const kes::FabricData> data;
+    std::string source;
+};
+
+/// The fabric a command runs on: `given`'s data when it has some, else io::find_fabric(name)
+/// (its warnings appended to `warnings`).
+kes::FabricData command_fabric(const std::string& name, const GivenFabric& given, std::vector<std::string>* warnings);
+/// The name a command's fabric errors carry: `given`'s source, else fabric_source(name).
+std::string command_fabric_source(const std::string& name, const GivenFabric& given);
 
 struct FabricsOptions {
     bool json = false;
@@ -31,6 +49,38 @@ struct FitOptions {
     std::string fabric;
     std::optional<std::string> out;  ///< absent: out/fit-<name>; given, it must not be empty
     std::string sigma_cm = "2";      ///< parsed by run_fit (args.hpp)
+    GivenFabric given_fabric;        ///< the Python module's fabric made from values
+};
+
+/// Options of `woven kes-test` (kept as text where a bad value needs the one-line error).
+struct KesTestOptions {
+    std::string fabric;
+    std::string test = "all";
+    std::string direction = "both";
+    std::optional<std::string> sigma_cm;
+    std::optional<std::string> shear_length_cm;
+    std::optional<std::string> bending_form;
+    std::optional<std::string> discretization;
+    std::optional<std::string> shear_law;
+    std::optional<std::string> out;
+    bool convergence = false;
+    GivenFabric given_fabric;
+};
+
+/// Options of `woven cusick`.
+struct CusickCommandOptions {
+    std::string fabric;
+    std::string specimen_cm = "30";
+    std::string disc_cm = "18";
+    std::optional<std::string> spacing_cm;
+    std::string seeds = "1";
+    std::string seed = "1";
+    std::optional<std::string> threads;
+    std::optional<std::string> max_steps;
+    std::optional<std::string> shear_law;
+    std::optional<std::string> out;
+    bool no_render = false;
+    GivenFabric given_fabric;
 };
 
 /// Numbers are kept as text and parsed by run_drape (args.hpp), so that a bad value gets the
@@ -73,6 +123,8 @@ int run_fabrics(const FabricsOptions& options);
 int run_scenes(const ScenesOptions& options);
 int run_fit(const FitOptions& options);
 int run_drape(const DrapeOptions& options);
+int run_kes_test(const KesTestOptions& options);   // cmd_kes_test.cpp
+int run_cusick(const CusickCommandOptions& options);  // cmd_cusick.cpp
 int run_check(const CheckOptions& options);
 
 /// `woven check DIR` for one output folder: the problems found, one line each (none: a complete

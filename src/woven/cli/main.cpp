@@ -19,51 +19,6 @@
 
 namespace woven::cli {
 
-/// One line: control characters (a newline from an input file) shown as \xNN.
-std::string one_line(const std::string& s)
-{
-    std::string out;
-    for (const char c : s) {
-        if (static_cast<unsigned char>(c) < 0x20) {
-            char b[8];
-            std::snprintf(b, sizeof b, "\\x%02x", static_cast<unsigned char>(c));
-            out += b;
-        } else {
-            out += c;
-        }
-    }
-    return out;
-}
-
-void print_warnings(const std::vector<std::string>& warnings)
-{
-    for (const auto& w : warnings) std::cerr << "woven: warning: " << one_line(w) << "\n";
-}
-
-void make_output_dir(const std::string& dir)
-{
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    if (fs::is_directory(dir, ec)) return;
-    if (fs::exists(dir, ec)) throw InputError(kCommandLine, "--out", dir + " exists and is not a directory");
-    fs::create_directories(dir, ec);
-    if (ec) throw InputError(kCommandLine, "--out", "cannot create the directory " + dir + ": " + ec.message());
-}
-
-std::string safe_file_name(const std::string& text)
-{
-    std::string s = text.substr(0, 100);
-    for (char& c : s)
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) c = '_';
-    if (!s.empty() && s[0] == '.') s[0] = '_';
-    return s.empty() ? std::string("unnamed") : s;
-}
-
-std::string join_path(const std::string& dir, const std::string& name)
-{
-    return (std::filesystem::path(dir) / name).string();
-}
-
 namespace {
 
 /// Keeps freed blocks of up to 32 MiB in the heap instead of returning them to the kernel. Each

@@ -15,6 +15,9 @@ namespace {
 
 std::atomic<int> g_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free);
+std::atomic<bool (*)()> g_poll{nullptr};
+std::atomic<bool> g_polled{false};  ///< the poll said stop
+std::atomic<bool> g_shown{true};
 
 extern "C" void on_signal(int sig)
 {
@@ -41,7 +44,21 @@ void install_interrupt_handler()
     sigaction(SIGTERM, &sa, nullptr);
 }
 
-bool interrupt_requested() { return g_signal.load() != 0; }
+bool interrupt_requested()
+{
+    if (g_signal.load() != 0 || g_polled.load()) return true;
+    bool (*poll)() = g_poll.load();
+    if (poll && poll()) g_polled = true;
+    return g_polled.load();
+}
+
+void set_interrupt_poll(bool (*poll)())
+{
+    g_poll = poll;
+    g_polled = false;
+}
+
+void set_progress_shown(bool shown) { g_shown = shown; }
 
 int interrupted_exit_code()
 {
@@ -76,6 +93,7 @@ bool Progress::due()
 
 void Progress::show(const char* line)
 {
+    if (!g_shown.load()) return;
     if (tty_) {
         const int width = 20;
         const int filled = static_cast<int>(std::lround(last_fraction_ * width));
@@ -124,6 +142,7 @@ bool Progress::iteration(const sim::IterationInfo& info)
 
 void Progress::finish()
 {
+    if (!g_shown.load()) return;
     if (tty_ && drawn_) std::fprintf(stderr, "\n");
     drawn_ = false;
 }

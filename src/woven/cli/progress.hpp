@@ -14,6 +14,12 @@ namespace woven::cli {
 void install_interrupt_handler();
 /// True once SIGINT or SIGTERM was received.
 bool interrupt_requested();
+/// An extra source of interrupts, polled by interrupt_requested() (the Python module: a Ctrl-C
+/// the interpreter has seen). Once it returned true, interrupt_requested() stays true until the
+/// poll is set again. Null: none.
+void set_interrupt_poll(bool (*poll)());
+/// false: Progress draws nothing (the Python module, whose progress goes to a callable).
+void set_progress_shown(bool shown);
 /// 128 + the first signal received (130 for SIGINT, 143 for SIGTERM); 130 when none was.
 int interrupted_exit_code();
 

@@ -1,4 +1,5 @@
 #include "woven/io/fabric_file.hpp"
+#include "woven/io/values.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -124,9 +125,11 @@ bool ends_with(std::string_view s, std::string_view suffix)
 
 }  // namespace
 
-kes::FabricData parse_fabric(std::string_view toml_text, const std::string& source, std::vector<std::string>* warnings_out)
+namespace {
+
+kes::FabricData read_fabric(const TomlReader& reader, std::vector<std::string>* warnings_out)
 {
-    const TomlReader reader(toml_text, source);
+    const std::string& source = reader.source();
     const TomlTable r = reader.root();
     kes::FabricData f;
     f.name = r.string("name", std::nullopt);
@@ -164,6 +167,18 @@ kes::FabricData parse_fabric(std::string_view toml_text, const std::string& sour
                           "G");
     if (warnings_out) warnings_out->insert(warnings_out->end(), warnings.begin(), warnings.end());
     return f;
+}
+
+}  // namespace
+
+kes::FabricData parse_fabric(std::string_view toml_text, const std::string& source, std::vector<std::string>* warnings)
+{
+    return read_fabric(TomlReader(toml_text, source), warnings);
+}
+
+kes::FabricData fabric_from_values(const nlohmann::json& values, const std::string& source, std::vector<std::string>* warnings)
+{
+    return read_fabric(TomlReader(table_from_values(values, source), source), warnings);
 }
 
 kes::FabricData load_fabric_file(const std::string& path, std::vector<std::string>* warnings)

@@ -1,4 +1,5 @@
 #include "woven/io/scene_file.hpp"
+#include "woven/io/values.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -229,10 +230,9 @@ std::string resolve_fabric(const std::string& fabric, const std::string& base_di
     return normal_path(fs::path(base_dir) / fabric);
 }
 
-SceneSpec parse_scene_impl(std::string_view text, const std::string& source, const std::string& base_dir,
-                           std::vector<std::string>* warnings, bool builtin)
+SceneSpec read_scene(const TomlReader& reader, const std::string& base_dir, std::vector<std::string>* warnings, bool builtin)
 {
-    const TomlReader reader(text, source);
+    const std::string& source = reader.source();
     if (reader.empty())
         reader.fail("file", "the scene is empty; expected at least a [cloth] table and an [[obstacle]]");
     const TomlTable r = reader.root();
@@ -262,7 +262,19 @@ SceneSpec parse_scene_impl(std::string_view text, const std::string& source, con
     return s;
 }
 
+SceneSpec parse_scene_impl(std::string_view text, const std::string& source, const std::string& base_dir,
+                           std::vector<std::string>* warnings, bool builtin)
+{
+    return read_scene(TomlReader(text, source), base_dir, warnings, builtin);
+}
+
 }  // namespace
+
+SceneSpec scene_from_values(const nlohmann::json& values, const std::string& source, const std::string& base_dir,
+                            std::vector<std::string>* warnings)
+{
+    return read_scene(TomlReader(table_from_values(values, source), source), base_dir, warnings, false);
+}
 
 Positions ClothSpec::initial_positions() const { return model::flat_grid(grid(), centre, yaw_deg * units::kDegToRad); }
 

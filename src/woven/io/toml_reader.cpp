@@ -360,6 +360,8 @@ TomlReader::TomlReader(std::string_view text, std::string source)
 {
 }
 
+TomlReader::TomlReader(toml::table root, std::string source) : source_(std::move(source)), root_(std::move(root)) {}
+
 void TomlReader::fail(const std::string& field, const std::string& expected) const
 {
     throw InputError(source_, field, expected);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
 #include <toml++/toml.h>
 
 namespace woven::io {
@@ -49,6 +50,12 @@ std::string printable(std::string_view text, std::size_t max_length = 80);
 
 /// Shortest round-trip text of a number ("1e+300", "0.5").
 std::string num_str(double v);
+
+/// A TOML document of a tree of values (values.cpp): objects become tables, arrays arrays,
+/// strings, integers, floats and booleans themselves. InputError "<source>: <field>: ..." for a
+/// null, an integer beyond 64 bits, a root that is not an object, or nesting beyond
+/// kMaxTomlNesting. Non-finite floats are kept, for the readers' own checks to refuse.
+toml::table table_from_values(const nlohmann::json& values, const std::string& source);
 
 class TomlReader;
 
@@ -121,6 +128,9 @@ class TomlReader {
 public:
     /// Parses `text` (parse_toml); `source` names the file in every message.
     TomlReader(std::string_view text, std::string source);
+    /// A document built in memory (io/values.hpp: values a Python caller passes); its nodes have
+    /// no line, so messages name the field alone.
+    TomlReader(toml::table root, std::string source);
     TomlReader(const TomlReader&) = delete;
     TomlReader& operator=(const TomlReader&) = delete;
 

@@ -1,0 +1,204 @@
+// Python values to woven's and back, warnings, and a command's code run from Python (bindings.hpp).
+#include <iostream>
+#include <sstream>
+
+#include "bindings.hpp"
+#include "woven/cli/progress.hpp"
+#include "woven/common/error.hpp"
+#include "woven/io/values.hpp"
+
+namespace woven::python {
+
+PyObject* input_warning = nullptr;
+
+namespace {
+
+/// Nesting allowed in values, as in a TOML file (io::kMaxTomlNesting); deeper, or a list that
+/// holds itself, is refused rather than recursed into.
+constexpr int kMaxDepth = 32;
+
+std::string type_name(py::handle v) { return py::str(py::type::handle_of(v).attr("__name__")).cast<std::string>(); }
+
+nlohmann::json value(py::handle v, const std::string& source, const std::string& field, int depth)
+{
+    const auto fail = [&](const std::string& expected) -> InputError { return InputError(source, field, expected); };
+    if (v.is_none()) return nullptr;  // io refuses it, naming the field
+    if (PyBool_Check(v.ptr())) return v.ptr() == Py_True;
+    if (PyLong_Check(v.ptr())) {
+        int overflow = 0;
+        const long long i = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+        if (overflow == 0) return i;
+        if (overflow > 0) {
+            const unsigned long long u = PyLong_AsUnsignedLongLong(v.ptr());
+            if (!PyErr_Occurred()) return u;  // io refuses it above 2^63 - 1, naming the field
+            PyErr_Clear();
+        }
+        throw fail("expected an integer within 64 bits (at most 9223372036854775807), got " + py::str(v).cast<std::string>().substr(0, 40));
+    }
+    if (PyFloat_Check(v.ptr())) return PyFloat_AsDouble(v.ptr());
+    if (PyUnicode_Check(v.ptr())) return v.cast<std::string>();
+    const bool container = PyDict_Check(v.ptr()) || PyList_Check(v.ptr()) || PyTuple_Check(v.ptr());
+    if (container && depth >= kMaxDepth) throw fail("nested more than " + std::to_string(kMaxDepth) + " levels deep");
+    if (PyDict_Check(v.ptr())) {
+        nlohmann::json o = nlohmann::json::object();
+        for (auto [k, item] : py::reinterpret_borrow<py::dict>(v)) {
+            if (!PyUnicode_Check(k.ptr())) throw fail("expected str keys, got the " + type_name(k) + " key " + py::repr(k).cast<std::string>().substr(0, 40));
+            const std::string key = k.cast<std::string>();
+            o[key] = value(item, source, field.empty() ? key : field + "." + key, depth + 1);
+        }
+        return o;
+    }
+    if (PyList_Check(v.ptr()) || PyTuple_Check(v.ptr())) {
+        nlohmann::json a = nlohmann::json::array();
+        std::size_t k = 0;
+        for (auto item : py::reinterpret_borrow<py::sequence>(v)) {
+            ++k;
+            a.push_back(value(item, source, field + "[" + std::to_string(k) + "]", depth + 1));
+        }
+        return a;
+    }
+    // numpy: an array as its nested list, a scalar as the Python number it holds.
+    if (py::hasattr(v, "dtype")) {
+        if (py::hasattr(v, "ndim") && v.attr("ndim").cast<int>() > 0) {
+            if (depth >= kMaxDepth) throw fail("nested more than " + std::to_string(kMaxDepth) + " levels deep");
+            return value(v.attr("tolist")(), source, field, depth);
+        }
+        if (py::hasattr(v, "item")) return value(v.attr("item")(), source, field, depth);
+    }
+    throw fail("expected a str, int, float, bool, list or dict, got " + type_name(v));
+}
+
+/// std::cout and std::cerr into strings while alive.
+class Capture {
+public:
+    Capture() : out_old_(std::cout.rdbuf(out_.rdbuf())), err_old_(std::cerr.rdbuf(err_.rdbuf())) {}
+    ~Capture()
+    {
+        std::cout.rdbuf(out_old_);
+        std::cerr.rdbuf(err_old_);
+    }
+    std::string out() const { return out_.str(); }
+    std::string err() const { return err_.str(); }
+
+private:
+    std::ostringstream out_, err_;
+    std::streambuf* out_old_;
+    std::streambuf* err_old_;
+};
+
+/// The interrupt poll of cli::interrupt_requested while a command runs from Python.
+bool poll_python()
+{
+    py::gil_scoped_acquire gil;
+    return signal_seen();
+}
+
+/// "woven: warning: <w>" lines of a command's stderr.
+std::vector<std::string> printed_warnings(const std::string& err)
+{
+    std::vector<std::string> out;
+    std::istringstream s(err);
+    const std::string prefix = "woven: warning: ";
+    for (std::string line; std::getline(s, line);)
+        if (line.rfind(prefix, 0) == 0) out.push_back(line.substr(prefix.size()));
+    return out;
+}
+
+}  // namespace
+
+io::SceneSpec Scene::build(std::vector<std::string>* warnings) const
+{
+    return values ? io::scene_from_values(*values, kPythonScene, base_dir, warnings) : io::find_scene(name_or_path, warnings);
+}
+
+nlohmann::json to_values(py::handle v, const std::string& source)
+{
+    if (!PyDict_Check(v.ptr())) throw InputError(source, "", "expected a dict of the file's keys, got " + type_name(v));
+    return value(v, source, "", 0);
+}
+
+py::object to_python(const nlohmann::json& j)
+{
+    using T = nlohmann::json::value_t;
+    switch (j.type()) {
+    case T::object: {
+        py::dict d;
+        for (const auto& [k, v] : j.items()) d[py::str(k)] = to_python(v);
+        return d;
+    }
+    case T::array: {
+        py::list l;
+        for (const auto& v : j) l.append(to_python(v));
+        return l;
+    }
+    case T::string: return py::str(j.get<std::string>());
+    case T::boolean: return py::bool_(j.get<bool>());
+    case T::number_integer: return py::int_(j.get<std::int64_t>());
+    case T::number_unsigned: return py::int_(j.get<std::uint64_t>());
+    case T::number_float: return py::float_(j.get<double>());
+    default: return py::none();
+    }
+}
+
+std::optional<std::string> option_text(py::handle v)
+{
+    if (v.is_none()) return std::nullopt;
+    if (PyUnicode_Check(v.ptr())) return v.cast<std::string>();
+    if (py::hasattr(v, "__fspath__")) return py::str(py::module_::import("os").attr("fspath")(v)).cast<std::string>();
+    if (PyFloat_Check(v.ptr())) return py::repr(v).cast<std::string>();
+    return py::str(v).cast<std::string>();
+}
+
+FabricArg fabric_arg(py::handle fabric)
+{
+    FabricArg a;
+    if (py::isinstance<Fabric>(fabric)) {
+        const Fabric& f = fabric.cast<const Fabric&>();
+        a.name = f.data->name;
+        a.given = {f.data, f.source};
+    } else {
+        a.name = option_text(fabric).value_or("");
+    }
+    return a;
+}
+
+bool signal_seen()
+{
+    if (PyErr_CheckSignals() == 0) return false;
+    PyErr_Clear();
+    return true;
+}
+
+void warn(const std::vector<std::string>& warnings)
+{
+    for (const auto& w : warnings)
+        if (PyErr_WarnEx(input_warning, w.c_str(), 1) != 0) throw py::error_already_set();
+}
+
+bool run_command(const std::function<void()>& f, std::string* out)
+{
+    bool interrupted = false;
+    std::string err;
+    std::exception_ptr failure;
+    {
+        Capture capture;
+        cli::set_progress_shown(false);
+        cli::set_interrupt_poll(&poll_python);
+        try {
+            py::gil_scoped_release release;
+            f();
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        interrupted = cli::interrupt_requested();
+        cli::set_interrupt_poll(nullptr);
+        cli::set_progress_shown(true);
+        err = capture.err();
+        if (out) *out = capture.out();
+    }
+    warn(printed_warnings(err));
+    if (failure) std::rethrow_exception(failure);
+    return interrupted;
+}
+
+}  // namespace woven::python

@@ -1,0 +1,24 @@
+// The Python module woven._woven (imported by the package woven, python/woven/__init__.py).
+#include "bindings.hpp"
+#include "woven/common/error.hpp"
+
+PYBIND11_MODULE(_woven, m)
+{
+    namespace py = pybind11;
+    using namespace woven::python;
+    m.doc() = "woven: drape of woven cloth from Kawabata (KES) measurements (Breen, House & Wozny 1994).";
+    m.attr("__version__") = WOVEN_VERSION;
+    // Bad input: woven's one-line message ("<source>: <field>: <what is expected>"), as the
+    // command prints it after "woven: error: ". A ValueError.
+    py::register_exception<woven::InputError>(m, "InputError", PyExc_ValueError);
+    // A failure on valid input (an I/O error, a non-finite state): a RuntimeError.
+    py::register_exception<woven::RuntimeError>(m, "Error", PyExc_RuntimeError);
+    input_warning = PyErr_NewExceptionWithDoc("woven.InputWarning",
+                                              "A warning about an input that is read anyway: an unknown key, a value outside "
+                                              "the usual range, more threads than cores.",
+                                              PyExc_UserWarning, nullptr);
+    m.attr("InputWarning") = py::handle(input_warning);
+    bind_fabric_scene(m);
+    bind_drape(m);
+    bind_testers(m);
+}
