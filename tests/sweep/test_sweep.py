@@ -220,11 +220,105 @@ def test_mpi(woven, tmp):
         del before
 
 
+def png_pixels(path):
+    """(width, height, rows of bytes, channels) of an 8-bit, non-interlaced RGB or RGBA PNG."""
+    import struct
+    import zlib
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    at, idat, w = 8, b"", 0
+    while at < len(data):
+        n, kind = struct.unpack(">I4s", data[at:at + 8])
+        body = data[at + 8:at + 8 + n]
+        if kind == b"IHDR":
+            w, h, depth, colour, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            assert depth == 8 and colour in (2, 6) and interlace == 0, (depth, colour, interlace)
+            ch = 3 if colour == 2 else 4
+        elif kind == b"IDAT":
+            idat += body
+        at += 12 + n
+    raw = zlib.decompress(idat)
+    stride = w * ch
+    rows, prev = [], bytearray(stride)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - ch] if i >= ch else 0
+            b, c = prev[i], prev[i - ch] if i >= ch else 0
+            if f == 1:
+                line[i] = (line[i] + a) & 255
+            elif f == 2:
+                line[i] = (line[i] + b) & 255
+            elif f == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(bytes(line))
+        prev = line
+    return w, h, rows, ch
+
+
+def chromium(args):
+    cmd = ["chromium", "--headless", "--disable-gpu", "--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+           "--hide-scrollbars", "--disable-dev-shm-usage"] + (["--no-sandbox"] if os.geteuid() == 0 else []) + args
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+
+
+def test_report(woven, tmp):
+    plan = os.path.join(tmp, "plan.toml")
+    open(plan, "w").write(plan_text("[1, 2]"))
+    sweep = os.path.join(tmp, "report")
+    run([woven, "sweep", plan, "--out", sweep], check_rc=0)
+    p = run([woven, "report", sweep], check_rc=0)
+    page = os.path.join(sweep, "report.html")
+    html = open(page).read()
+    outside = re.findall(r"<(?:script|img|link|iframe|source)\b[^>]*\b(?:src|href)\s*=\s*[\"'](?!data:)[^\"']*", html)
+    check(outside == [] and ' src="data:image/png;base64,' in html, f"the page fetches nothing (pictures inlined): {outside[:3]}")
+    check(html.count("<svg") >= 1 and "THREE" in html, "SVG plot and three.js inlined")
+    dom = chromium(["--dump-dom", "file://" + page])
+    body = re.search(r"<body[^>]*>", dom.stdout)
+    check(body and 'data-ready="1"' in body.group(0), f"Chromium: the page sets data-ready: {body.group(0) if body else dom.stderr[-500:]}")
+    check(body and 'data-view="webgl"' in body.group(0), "Chromium: the 3-D view was built with WebGL (software GL)")
+    table = re.search(r'<table class="sortable" id="points">.*?<tbody>(.*?)</tbody>', dom.stdout, re.S)
+    rows = re.findall(r"<tr[^>]*><td>([^<]*)</td>", table.group(1)) if table else []
+    check(rows == ["fabric-cotton_seed-1", "fabric-cotton_seed-2", "fabric-wool_seed-1", "fabric-wool_seed-2"], f"the table's rows: {rows}")
+    shot = os.path.join(tmp, "shot.png")
+    chromium(["--window-size=1200,1700", "--screenshot=" + shot, "file://" + page])
+    check(os.path.isfile(shot), "Chromium wrote the screenshot")
+    if os.path.isfile(shot):
+        w, h, px, ch = png_pixels(shot)
+        colours, cloth = set(), 0
+        for line in px[::2]:
+            for i in range(0, len(line), ch * 2):
+                r, g, b = line[i], line[i + 1], line[i + 2]
+                colours.add((r >> 3, g >> 3, b >> 3))
+                cloth += 60 < r < 230 and g < r - 40 and b < r - 50  # the cloth's terracotta in the 3-D view
+        check(len(colours) > 50, f"the screenshot is not blank ({len(colours)} colours)")
+        check(cloth > 5000, f"the 3-D view shows the drape ({cloth} cloth-coloured samples)")
+    # A broken folder: a one-line error, and the page is not rewritten.
+    before = open(page, "rb").read()
+    with open(os.path.join(sweep, "fabric-wool_seed-1", "cusick.obj"), "ab") as f:
+        f.write(b"# changed\n")
+    p = run([woven, "report", sweep], check_rc=2)
+    check(p.stderr.count("\n") == 1 and "fabric-wool_seed-1" in p.stderr and "does not verify" in p.stderr, f"broken folder: {p.stderr}")
+    check(open(page, "rb").read() == before, "no half page written")
+    p = run([woven, "report", tmp], check_rc=2)
+    check("expected a sweep folder" in p.stderr, p.stderr)
+    # One kes-test folder: its curves, simulated against input, as SVG plots.
+    kes = os.path.join(tmp, "kes")
+    run([woven, "kes-test", "wool", "--test", "bending", "--direction", "warp", "--out", kes], check_rc=0)
+    run([woven, "report", kes], check_rc=0)
+    html = open(os.path.join(kes, "report.html")).read()
+    check("bending_warp" in html and html.count("<polyline") >= 2, "kes-test: the bending curve plot, simulated and input")
+
+
 def main():
     which, woven = sys.argv[1], os.path.abspath(sys.argv[2])
     tmp = tempfile.mkdtemp(prefix="woven-sweep-")
     try:
-        {"single": test_single, "mpi": test_mpi}[which](woven, tmp)
+        {"single": test_single, "mpi": test_mpi, "report": test_report}[which](woven, tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if FAILURES:
