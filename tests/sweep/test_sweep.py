@@ -137,7 +137,8 @@ def test_single(woven, tmp):
     open(plan, "w").write(plan_text("[1, 2]"))
     sh = os.path.join(tmp, "shards")
     p0 = run([woven, "sweep", plan, "--out", sh, "--shard", "0/2"], check_rc=0)
-    env = dict(os.environ, SLURM_ARRAY_TASK_ID="8", SLURM_ARRAY_TASK_COUNT="2", SLURM_ARRAY_TASK_MIN="7")
+    # srun inside an array task sets a PMI world of one: the array's split still holds.
+    env = dict(os.environ, SLURM_ARRAY_TASK_ID="8", SLURM_ARRAY_TASK_COUNT="2", SLURM_ARRAY_TASK_MIN="7", PMI_RANK="0", PMI_SIZE="1")
     p1 = run([woven, "sweep", plan, "--out", sh], env=env, check_rc=0)
     check(sorted(ran_points(p0.stdout)) == ["fabric-cotton_seed-1", "fabric-wool_seed-1"], f"shard 0/2: {p0.stdout}")
     check(sorted(ran_points(p1.stdout)) == ["fabric-cotton_seed-2", "fabric-wool_seed-2"] and "(Slurm array)" in p1.stdout,
@@ -146,7 +147,9 @@ def test_single(woven, tmp):
     bad = run([woven, "sweep", plan, "--out", sh, "--shard", "2/2"], check_rc=2)
     check(bad.stderr.startswith("woven: error: command line: --shard: expected I/N") and bad.stderr.count("\n") == 1, bad.stderr)
     bad = run([woven, "sweep", plan, "--out", sh], env=dict(os.environ, OMPI_COMM_WORLD_RANK="3", OMPI_COMM_WORLD_SIZE="2"), check_rc=2)
-    check("environment: OMPI_COMM_WORLD_RANK" in bad.stderr, bad.stderr)
+    check("environment: OMPI_COMM_WORLD_RANK: expected a rank below OMPI_COMM_WORLD_SIZE (2), got 3" in bad.stderr, bad.stderr)
+    bad = run([woven, "sweep", plan, "--out", sh], env=dict(os.environ, PMI_RANK="x", PMI_SIZE="2"), check_rc=2)
+    check("woven: error: environment: PMI_RANK: expected an integer in [0, 1000000000], got 'x'" in bad.stderr, bad.stderr)
 
 
 def mpirun(woven, plan, sweep):

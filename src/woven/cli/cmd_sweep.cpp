@@ -195,8 +195,14 @@ const std::vector<std::string>& preferred_columns()
 ShardSpec shard_from(const std::optional<std::string>& option, const std::function<const char*(const char*)>& env)
 {
     ShardSpec s;
+    // "environment: <VARIABLE>: expected an integer in [lo, 1000000000], got 'x'"
     const auto number = [](const char* text, const std::string& what, long long lo) {
-        return parse_integer(text ? std::string(text) : std::string(), what, lo, 1'000'000'000);
+        try {
+            return parse_integer(text ? std::string(text) : std::string(), what, lo, 1'000'000'000);
+        } catch (const InputError& e) {
+            const std::string m = e.what();
+            throw InputError("environment", what.substr(what.find(": ") + 2), m.substr(m.find("expected")));
+        }
     };
     if (option) {
         const auto slash = option->find('/');
@@ -216,8 +222,12 @@ ShardSpec shard_from(const std::optional<std::string>& option, const std::functi
         const char* r = env(rank);
         const char* n = env(size);
         if (!r || !n) return false;
-        s.index = static_cast<int>(number(r, std::string("environment: ") + rank, 0));
-        s.count = static_cast<int>(number(n, std::string("environment: ") + size, 1));
+        const int index = static_cast<int>(number(r, std::string("environment: ") + rank, 0));
+        const int count = static_cast<int>(number(n, std::string("environment: ") + size, 1));
+        // A world of one (srun's PMI inside a Slurm array task) leaves the split to the next source.
+        if (count == 1 && index == 0) return false;
+        s.index = index;
+        s.count = count;
         if (s.index >= s.count)
             throw InputError("environment", rank, "expected a rank below " + std::string(size) + " (" + n + "), got " + r);
         s.source = name;
