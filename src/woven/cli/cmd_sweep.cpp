@@ -338,14 +338,14 @@ public:
     }
 
     /// Runs `todo`; returns the number that failed.
-    int run(const std::vector<const io::SweepPoint*>& todo, std::size_t shard_points)
+    int run(const std::vector<const io::SweepPoint*>& todo)
     {
         fs::create_directories(work_root_);
         fs::create_directories(sweep_ / "failed");
         remove_stale_work();
         std::size_t next = 0, finished = 0;
         std::vector<Running> running;
-        while ((next < todo.size() || !running.empty())) {
+        while (next < todo.size() || !running.empty()) {
             if (g_sweep_signal.load() != 0) {
                 stop(running);
                 return failed_;
@@ -362,7 +362,7 @@ public:
             Running r = *it;
             running.erase(it);
             ++finished;
-            finish(r, status, finished, todo.size(), shard_points);
+            finish(r, status, finished, todo.size());
         }
         return failed_;
     }
@@ -472,7 +472,7 @@ private:
         return r;
     }
 
-    void finish(const Running& r, int status, std::size_t finished, std::size_t total, std::size_t shard_points)
+    void finish(const Running& r, int status, std::size_t finished, std::size_t total)
     {
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - r.start).count();
         const io::SweepPoint& p = *r.point;
@@ -549,7 +549,6 @@ private:
         ++ran_;
         std::cout << head.str() << "ran in " << std::fixed << std::setprecision(1) << wall << " s\n" << std::flush;
         std::cout.unsetf(std::ios::fixed);
-        (void)shard_points;
     }
 
     void remove_work(const fs::path& w)
@@ -831,7 +830,7 @@ int run_sweep(const SweepOptions& o)
               << threads << (threads == 1 ? " thread" : " threads") << "; folder " << out << "\n"
               << std::flush;
     SweepRunner runner(plan, out, jobs, threads);
-    const int failed = runner.run(todo, mine);
+    const int failed = runner.run(todo);
     if (g_sweep_signal.load() != 0) {
         std::cerr << "woven: sweep interrupted; " << runner.ran() << " points finished, the others run again next time\n";
         return 128 + g_sweep_signal.load();
