@@ -33,6 +33,7 @@
 #include "woven/io/scene_file.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/figure.hpp"
+#include "woven/render/glyphs.hpp"
 
 namespace woven::cli {
 
@@ -449,6 +450,37 @@ int run_map(const ExperimentOptions& o, const std::string& command)
                                               {Structure::MULTIPLE, Vec3(0.55, 0.68, 0.90)},
                                               {Structure::NONE, Vec3(0.85, 0.85, 0.85)}};
     render::draw_label(img, "Corner structure over the cube, 0.10 m below its top", left, 15, 2);
+    // Placement without overprint: a cell's text sits at its top, or at its bottom when a fabric's
+    // mark falls on the top; a mark's name goes right of its dot, else left, below or above,
+    // wherever it covers no cell text and no other mark.
+    struct Box {
+        int x0, y0, x1, y1;
+        bool hits(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+    };
+    const auto text_box = [](const std::string& t, int x, int y) {  // with a 3 px margin
+        Box b{x - 3, y - 3, x, y};
+        for (const auto& g : render::detail::glyph_boxes(t)) {
+            b.x1 = std::max(b.x1, x + static_cast<int>(std::ceil(g.x1 * 2)) + 3);
+            b.y1 = std::max(b.y1, y + static_cast<int>(std::ceil(g.y1 * 2)) + 3);
+        }
+        return b;
+    };
+    struct Mark {
+        double px, py;
+        std::string name;
+        Box dot;
+    };
+    std::vector<Mark> marks;
+    for (std::size_t f = 0; f < paper.size(); ++f) {
+        // x linear in the bending length between cell centres, y linear in log2(ratio).
+        const auto [len, ratio] = map_position(paper[f]);
+        const double fx = (len - lengths.front()) / (lengths.back() - lengths.front());
+        const double fy = (std::log2(ratio) - std::log2(ratios.front())) / (std::log2(ratios.back()) - std::log2(ratios.front()));
+        const double px = left + cw / 2.0 + fx * cw * (nc - 1), py = top + ch / 2.0 + (1 - fy) * ch * (nr - 1);
+        marks.push_back({px, py, o.fabrics[f], Box{static_cast<int>(px) - 9, static_cast<int>(py) - 9, static_cast<int>(px) + 9, static_cast<int>(py) + 9}});
+    }
+    std::vector<Box> taken;
+    for (const Mark& m : marks) taken.push_back(m.dot);
     for (std::size_t k = 0; k < cells.size(); ++k) {
         const Cell& c = cells[k];
         const int ri = static_cast<int>(k) / nc, ci = static_cast<int>(k) % nc;
@@ -456,26 +488,41 @@ int run_map(const ExperimentOptions& o, const std::string& command)
         render::fill_rect(img, x0 + 2, y0 + 2, x0 + cw - 2, y0 + ch - 2, colour.at(c.majority));
         std::string t = fmt("billows %.2f", c.mean_billows) + "\n"
             + (c.mean_abs_angle > 0 ? fmt("%.0f deg off", c.mean_abs_angle) : std::string("")) + (c.converged ? "" : "\nnot converged");
-        render::draw_label(img, t, x0 + 10, y0 + 10, 2);
+        Box b = text_box(t, x0 + 10, y0 + 10);
+        const auto on_a_mark = [&](const Box& box) {
+            return std::any_of(marks.begin(), marks.end(), [&](const Mark& m) { return m.dot.hits(box); });
+        };
+        if (on_a_mark(b)) {
+            const Box low = text_box(t, x0 + 10, y0 + ch - 4 - (b.y1 - b.y0));
+            if (!on_a_mark(low)) b = low;
+        }
+        render::draw_label(img, t, b.x0 + 3, b.y0 + 3, 2);
+        taken.push_back(b);
+    }
+    for (const Mark& m : marks) {
+        const int w = render::label_width(m.name, 2), x = static_cast<int>(m.px), y = static_cast<int>(m.py);
+        const Box candidates[] = {{x + 11, y - 9, x + 14 + w, y + 9}, {x - 14 - w, y - 9, x - 11, y + 9},
+                                  {x - w / 2 - 3, y + 11, x + w / 2 + 3, y + 29}, {x - w / 2 - 3, y - 29, x + w / 2 + 3, y - 11}};
+        Box label = candidates[0];
+        for (const Box& cand : candidates)
+            if (std::none_of(taken.begin(), taken.end(), [&](const Box& t) { return t.hits(cand) && !(t.x0 == m.dot.x0 && t.y0 == m.dot.y0); })) {
+                label = cand;
+                break;
+            }
+        taken.push_back(label);
+        render::fill_rect(img, label.x0, label.y0, label.x1, label.y1, Vec3(1, 1, 1), 0.85);
+        render::fill_disc(img, m.px, m.py, 7, Vec3(0, 0, 0));
+        render::draw_label(img, m.name, label.x0 + 3, label.y0 + 3, 2);
+    }
+    for (std::size_t f = 0; f < paper.size(); ++f) {
+        const Mark& m = marks[f];
+        render::fill_disc(img, m.px, m.py, 4.5, render::fabric_color(paper[f].color).array().pow(1 / 2.2).matrix());
     }
     for (int ri = 0; ri < nr; ++ri) render::draw_label(img, fmt("%.3g", ratios[ri]), 20, top + (nr - 1 - ri) * ch + ch / 2 - 7, 2);
     for (int ci = 0; ci < nc; ++ci)
         render::draw_label(img, fmt("%.2g cm", lengths[ci]), left + ci * cw + cw / 2 - 25, top + nr * ch + 8, 2);
     render::draw_label(img, "warp/weft", 10, top - 25, 2);
     render::draw_label(img, "bending length c = (B/W)^(1/3), B = sqrt(B_warp B_weft)", left, top + nr * ch + 30, 2);
-    // Marks: x linear in the bending length between cell centres, y linear in log2(ratio).
-    for (std::size_t f = 0; f < paper.size(); ++f) {
-        const auto [len, ratio] = map_position(paper[f]);
-        const double fx = (len - lengths.front()) / (lengths.back() - lengths.front());
-        const double fy = (std::log2(ratio) - std::log2(ratios.front())) / (std::log2(ratios.back()) - std::log2(ratios.front()));
-        const double px = left + cw / 2.0 + fx * cw * (nc - 1), py = top + ch / 2.0 + (1 - fy) * ch * (nr - 1);
-        const std::string name = o.fabrics[f];
-        render::fill_rect(img, static_cast<int>(px) + 8, static_cast<int>(py) - 9, static_cast<int>(px) + 14 + render::label_width(name, 2),
-                          static_cast<int>(py) + 9, Vec3(1, 1, 1), 0.85);
-        render::fill_disc(img, px, py, 7, Vec3(0, 0, 0));
-        render::fill_disc(img, px, py, 4.5, render::fabric_color(paper[f].color).array().pow(1 / 2.2).matrix());
-        render::draw_label(img, name, static_cast<int>(px) + 11, static_cast<int>(py) - 6, 2);
-    }
     int ly = top + nr * ch + 60, lx = left;
     for (Structure s : {Structure::SINGLE_DIAGONAL, Structure::SINGLE_OFFSET, Structure::MULTIPLE, Structure::NONE}) {
         render::fill_rect(img, lx, ly, lx + 20, ly + 14, colour.at(s));

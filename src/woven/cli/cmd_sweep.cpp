@@ -195,8 +195,14 @@ const std::vector<std::string>& preferred_columns()
 ShardSpec shard_from(const std::optional<std::string>& option, const std::function<const char*(const char*)>& env)
 {
     ShardSpec s;
+    // "environment: <VARIABLE>: expected an integer in [lo, 1000000000], got 'x'"
     const auto number = [](const char* text, const std::string& what, long long lo) {
-        return parse_integer(text ? std::string(text) : std::string(), what, lo, 1'000'000'000);
+        try {
+            return parse_integer(text ? std::string(text) : std::string(), what, lo, 1'000'000'000);
+        } catch (const InputError& e) {
+            const std::string m = e.what();
+            throw InputError("environment", what.substr(what.find(": ") + 2), m.substr(m.find("expected")));
+        }
     };
     if (option) {
         const auto slash = option->find('/');
@@ -216,8 +222,12 @@ ShardSpec shard_from(const std::optional<std::string>& option, const std::functi
         const char* r = env(rank);
         const char* n = env(size);
         if (!r || !n) return false;
-        s.index = static_cast<int>(number(r, std::string("environment: ") + rank, 0));
-        s.count = static_cast<int>(number(n, std::string("environment: ") + size, 1));
+        const int index = static_cast<int>(number(r, std::string("environment: ") + rank, 0));
+        const int count = static_cast<int>(number(n, std::string("environment: ") + size, 1));
+        // A world of one (srun's PMI inside a Slurm array task) leaves the split to the next source.
+        if (count == 1 && index == 0) return false;
+        s.index = index;
+        s.count = count;
         if (s.index >= s.count)
             throw InputError("environment", rank, "expected a rank below " + std::string(size) + " (" + n + "), got " + r);
         s.source = name;
@@ -328,14 +338,14 @@ public:
     }
 
     /// Runs `todo`; returns the number that failed.
-    int run(const std::vector<const io::SweepPoint*>& todo, std::size_t shard_points)
+    int run(const std::vector<const io::SweepPoint*>& todo)
     {
         fs::create_directories(work_root_);
         fs::create_directories(sweep_ / "failed");
         remove_stale_work();
         std::size_t next = 0, finished = 0;
         std::vector<Running> running;
-        while ((next < todo.size() || !running.empty())) {
+        while (next < todo.size() || !running.empty()) {
             if (g_sweep_signal.load() != 0) {
                 stop(running);
                 return failed_;
@@ -352,7 +362,7 @@ public:
             Running r = *it;
             running.erase(it);
             ++finished;
-            finish(r, status, finished, todo.size(), shard_points);
+            finish(r, status, finished, todo.size());
         }
         return failed_;
     }
@@ -462,7 +472,7 @@ private:
         return r;
     }
 
-    void finish(const Running& r, int status, std::size_t finished, std::size_t total, std::size_t shard_points)
+    void finish(const Running& r, int status, std::size_t finished, std::size_t total)
     {
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - r.start).count();
         const io::SweepPoint& p = *r.point;
@@ -539,7 +549,6 @@ private:
         ++ran_;
         std::cout << head.str() << "ran in " << std::fixed << std::setprecision(1) << wall << " s\n" << std::flush;
         std::cout.unsetf(std::ios::fixed);
-        (void)shard_points;
     }
 
     void remove_work(const fs::path& w)
@@ -821,7 +830,7 @@ int run_sweep(const SweepOptions& o)
               << threads << (threads == 1 ? " thread" : " threads") << "; folder " << out << "\n"
               << std::flush;
     SweepRunner runner(plan, out, jobs, threads);
-    const int failed = runner.run(todo, mine);
+    const int failed = runner.run(todo);
     if (g_sweep_signal.load() != 0) {
         std::cerr << "woven: sweep interrupted; " << runner.ran() << " points finished, the others run again next time\n";
         return 128 + g_sweep_signal.load();

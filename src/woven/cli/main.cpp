@@ -67,6 +67,7 @@ int main(int argc, char** argv)
     add_experiment_command(app, exit_code);
     add_check_command(app, exit_code);
     add_sweep_command(app, exit_code);
+    add_report_command(app, exit_code);
 
     try {
         // CLI11 reports a mistyped command as "A subcommand is required"; name it instead.

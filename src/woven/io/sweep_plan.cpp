@@ -208,7 +208,7 @@ SweepValue read_value(const TomlTable& t, const toml::node& n, const std::string
         if (!fs::is_regular_file(p, ec))
             t.fail_at(field, "expected " + what + ", got '" + printable(name) + "' (no such file: " + p.lexically_normal().string() + ")" +
                                  TomlReader::at(n));
-        v.text = p.lexically_normal().string();
+        v.text = fs::absolute(p).lexically_normal().string();  // the same command line from any folder
         v.label = stem_label(name);
         break;
     }
