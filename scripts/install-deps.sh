@@ -7,7 +7,8 @@ packages=(cmake ninja-build g++ make pkg-config
   libstb-dev libembree-dev libtbb-dev libsuitesparse-dev libopenblas0-pthread
   libgtest-dev libgmock-dev libbenchmark-dev time libbullet-dev
   clang libclang-rt-14-dev
-  python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib)
+  python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
+  openmpi-bin chromium libjs-three)
 missing=()
 for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
