@@ -50,7 +50,7 @@ test: deps
 # FUZZ_SECONDS on fuzz/corpus/<target> and the built-in files. `make test` replays the corpus.
 $(FUZZ_BUILD)/build.ninja:
 	cmake -S . -B $(FUZZ_BUILD) $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-		-DWOVEN_FUZZ=ON -DWOVEN_TESTS=OFF \
+		-DWOVEN_FUZZ=ON -DWOVEN_TESTS=OFF -DWOVEN_PYTHON=OFF "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
 		"-DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
 		-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined
 
