@@ -1,9 +1,18 @@
 // woven experiment cube|map|figure1: the paper's experiments (Sec. 6, Fig. 1, Fig. 8), drawn and
-// measured. Writes pictures, tables (Markdown) and the raw numbers (JSON) into --out.
+// measured. Each experiment's drapes are a sweep plan (examples/experiment-cube.toml, ...)
+// written into its sweep folder (--sweep, default out/experiment-<name>) and run there by the
+// sweep's own point loop (run_sweep_points: resume, verify, --jobs, ranks); the experiment then
+// reads each point's report.json and drape.obj back and writes pictures, tables (Markdown) and
+// the raw numbers (JSON) into --out.
 #include <algorithm>
+#include <array>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -13,6 +22,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -25,12 +36,16 @@
 #include "woven/cli/report.hpp"
 #include "woven/cli/run_checks.hpp"
 #include "woven/cli/scene_view.hpp"
+#include "woven/cli/sweep.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/corner_map_file.hpp"
 #include "woven/io/fabric_file.hpp"
+#include "woven/io/input_file.hpp"
+#include "woven/io/mesh_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
+#include "woven/io/sweep_plan.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/figure.hpp"
 #include "woven/render/glyphs.hpp"
@@ -85,12 +100,18 @@ struct ExperimentOptions {
     int threads = 1;
     std::string map_grid = "5x4";
     std::optional<std::string> reuse;  ///< map: an earlier corner_map.json whose drapes to analyse again
+    std::optional<std::string> sweep;  ///< the sweep folder (default out/experiment-<which>)
+    bool plan_only = false;            ///< write the plan (and the map's fabric files) and stop
+    std::string jobs = "1";
+    std::optional<std::string> shard;
     std::vector<std::string> fabrics = {"cotton", "wool", "polyester_cotton"};
 };
 
-/// Thrown when SIGINT or SIGTERM stopped a drape: the experiment ends without publishing, so
-/// its folder keeps the previous complete set.
-struct ExperimentInterrupted {};
+/// Thrown when SIGINT or SIGTERM stopped the drapes or the experiment before it published: it
+/// ends without publishing, so its folder keeps the previous complete set.
+struct ExperimentInterrupted {
+    int signal = 0;  ///< 0: drape's interrupt flag (interrupted_exit_code)
+};
 
 /// The experiment's JSON (its set's manifest) holds finite numbers only; a drape's `folds` may
 /// be null where the scene has no box to analyse. RuntimeError (exit 1, nothing published) else.
@@ -108,57 +129,196 @@ void require_finite_experiment(nlohmann::json j, const std::string& what)
     require_finite(j, what);
 }
 
-/// One drape and what it measured.
+/// One drape and what it measured, read back from its point folder in the sweep.
 struct Outcome {
     std::string fabric;
     std::uint64_t seed = 0;
-    Positions x;
+    Positions x;  ///< from drape.obj (9 significant digits); empty unless asked for
     model::Grid grid;
     bool converged = false;
     int steps = 0;
     double wall_s = 0;
     double energy_J = 0;
-    std::optional<analysis::FoldAnalysis> folds;
+    nlohmann::json folds;  ///< the drape's report.json `folds` (null: no box to analyse)
+    /// The billows of each section (0.10 m, 0.20 m below the top) at each corner, from `folds`.
+    std::vector<std::array<std::vector<analysis::Billow>, 4>> sections;
+    bool has_folds() const { return !folds.is_null(); }
 };
 
-/// Drapes `fabric` over `scene` (a copy is changed: seed, grid, threads) like `woven drape`.
-Outcome drape(const kes::FabricData& fabric, const std::string& fabric_name, std::uint64_t seed, const ExperimentOptions& o,
-              io::SceneSpec& scene)
+/// The largest report.json of a point read back (a drape's is a few kB).
+constexpr std::size_t kMaxPointReportBytes = 16u << 20;
+
+/// The drape of `point` in `sweep_dir` (a complete point folder: run_sweep_points verified it):
+/// its report.json, and with `positions` its particles from drape.obj. RuntimeError when the
+/// folder does not hold a drape's report of the form written by `woven drape`.
+Outcome read_outcome(const std::string& sweep_dir, const io::SweepPoint& point, const std::string& fabric_label, bool positions)
 {
-    io::SceneOverrides ov;
-    ov.grid = o.grid;
-    ov.seed = seed;
-    ov.threads = o.threads;
-    io::apply_overrides(scene, ov, kCommandLine);
-    Outcome out;
-    out.fabric = fabric_name;
-    out.seed = seed;
-    out.grid = scene.cloth.grid();
-    resolve_shear_law(fabric, scene.model);
-    const model::ClothModel model = model::make_cloth_model(fabric, out.grid, scene.model);
-    sim::Problem problem;
-    problem.model = &model;
-    problem.obstacles = &scene.obstacles;
-    problem.initial = scene.cloth.initial_positions();
-    problem.pinned = scene.pinned_indices();
-    std::cerr << "woven: experiment: " << scene.name << ", " << fabric_name << ", seed " << seed << " ..." << std::flush;
-    // SIGINT or SIGTERM (install_interrupt_handler) stops the solve after the current Newton
-    // iteration; the experiment then publishes nothing (ExperimentInterrupted).
-    const sim::Result r = sim::drape(problem, scene.solver, [](const sim::StepInfo&) { return !interrupt_requested(); },
-                                     [](const sim::IterationInfo&) { return !interrupt_requested(); });
-    if (interrupt_requested() || r.interrupted) {
-        std::cerr << " interrupted\n";
-        throw ExperimentInterrupted{};
+    const std::string dir = join_path(sweep_dir, point.name);
+    const std::string path = join_path(dir, "report.json");
+    Outcome d;
+    d.fabric = fabric_label;
+    try {
+        const nlohmann::json r = nlohmann::json::parse(io::read_input_file(path, kMaxPointReportBytes, {"point report", "a drape's report.json"}));
+        d.seed = r.at("seed").get<std::uint64_t>();
+        d.converged = r.at("converged").get<bool>();
+        d.steps = r.at("steps").get<int>();
+        d.wall_s = r.at("wall_time_s").get<double>();
+        d.energy_J = r.at("energy").at("total_J").get<double>();
+        d.grid.nu = r.at("grid").at(0).get<int>();
+        d.grid.nv = r.at("grid").at(1).get<int>();
+        d.folds = r.at("folds");
+        if (d.has_folds()) {
+            const std::size_t n = r["folds"].at("sections").size();
+            d.sections.resize(n);
+            for (const auto& corner : d.folds.at("corners")) {
+                const int c = corner.at("corner").get<int>();
+                if (c < 0 || c > 3) throw RuntimeError(path + ": folds.corners: a corner outside 0 .. 3");
+                for (std::size_t s = 0; s < n; ++s) {
+                    const auto& angles = corner.at("angles_deg").at(s);
+                    const auto& standout = corner.at("standout_m").at(s);
+                    for (std::size_t b = 0; b < angles.size(); ++b) {
+                        analysis::Billow billow;
+                        billow.corner = c;
+                        billow.angle_deg = angles.at(b).get<double>();
+                        billow.standout_m = standout.at(b).get<double>();
+                        d.sections[s][c].push_back(billow);
+                    }
+                }
+            }
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw RuntimeError(path + ": not a drape's report.json (" + e.what() + ")");
     }
-    std::fprintf(stderr, " %s, %d steps, %.1f s\n", r.converged ? "converged" : "NOT converged", r.steps, r.wall_time);
-    out.x = r.x;
-    out.converged = r.converged;
-    out.steps = r.steps;
-    out.wall_s = r.wall_time;
-    out.energy_J = r.energy.total();
-    if (const auto box = analysis::box_footprint(scene.obstacles))
-        out.folds = analysis::analyse_folds(analysis::grid_mesh(r.x, out.grid.nu, out.grid.nv), *box);
-    return out;
+    if (positions) {
+        const std::string obj = join_path(dir, "drape.obj");
+        const geometry::TriangleMesh mesh = io::load_obj_mesh(obj);
+        if (static_cast<long long>(mesh.vertices.size()) != static_cast<long long>(d.grid.nu) * d.grid.nv)
+            throw RuntimeError(obj + ": " + std::to_string(mesh.vertices.size()) + " vertices, expected the report's grid " +
+                               std::to_string(d.grid.nu) + " x " + std::to_string(d.grid.nv));
+        d.x.assign(mesh.vertices.begin(), mesh.vertices.end());
+    }
+    return d;
+}
+
+/// Writes `text` to `path` (through a temporary and a rename) unless the file holds it already.
+void write_if_changed(const std::string& path, const std::string& text)
+{
+    namespace fs = std::filesystem;
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (in) {
+            std::ostringstream s;
+            s << in.rdbuf();
+            if (s.str() == text) return;
+        }
+    }
+    const fs::path target(path);
+    const fs::path tmp = target.parent_path() / (".woven-tmp." + std::to_string(::getpid()) + "." + target.filename().string());
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out) throw RuntimeError(path + ": cannot write: " + std::strerror(errno));
+    }
+    std::error_code ec;
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw RuntimeError(path + ": cannot move into place: " + ec.message());
+    }
+}
+
+/// The plan's head: its name, description and command (every experiment drapes).
+std::string plan_head(const std::string& which, const std::string& description)
+{
+    return "# The drapes of `woven experiment " + which +
+           "` (docs/EXPERIMENTS.md) as a sweep plan (docs/SWEEP-FORMAT.md): the experiment\n"
+           "# writes it into its sweep folder, runs it there and builds its figures and tables from the points.\n"
+           "name = \"experiment-" + which + "\"\ndescription = \"" + description + "\"\ncommand = \"drape\"\n";
+}
+
+/// The plan's [options]: `scene` and `seed` when not an axis, the experiment's --grid and --threads.
+std::string plan_options(const ExperimentOptions& o, bool scene_cube, bool seed_one)
+{
+    std::string t = "\n[options]\n";
+    if (scene_cube) t += "scene = \"cube\"\n";
+    if (seed_one) t += "seed = 1\n";
+    if (o.grid) t += "grid = " + std::to_string(*o.grid) + "\n";
+    t += "threads = " + std::to_string(o.threads) + "\n";
+    t += "render = false  # the experiment draws its own pictures from drape.obj\n";
+    return t;
+}
+
+/// A plan run for an experiment: the plan, or none when this process builds nothing (--plan-only,
+/// or a rank whose points are done while another rank's still run).
+struct PlanRun {
+    std::optional<io::SweepPlan> plan;
+    std::string dir;
+};
+
+/// The sweep folder, --jobs and the shard, checked before anything is written.
+struct SweepPlace {
+    std::string dir;
+    SweepRunOptions run;
+};
+
+SweepPlace sweep_place(const ExperimentOptions& o)
+{
+    SweepPlace p;
+    p.dir = o.sweep ? parse_path(*o.sweep, "--sweep") : join_path("out", "experiment-" + o.which);
+    p.run.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
+    p.run.shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
+    return p;
+}
+
+/// Writes `plan_text` as <sweep>/plan.toml and `files` (paths relative to the sweep folder)
+/// where they differ, reads the plan back as `woven sweep` reads it, and (unless --plan-only)
+/// runs it with run_sweep_points: the points of this shard whose folders do not verify run,
+/// each announced on stderr as "woven: experiment: <what> ..." (`what`: one per point, in plan
+/// order). SIGINT/SIGTERM: ExperimentInterrupted; a failed point: RuntimeError.
+PlanRun run_experiment_plan(const ExperimentOptions& o, SweepPlace place, const std::string& plan_text,
+                            const std::vector<std::pair<std::string, std::string>>& files, const std::vector<std::string>& what)
+{
+    PlanRun r;
+    r.dir = place.dir;
+    make_output_dir(r.dir);
+    for (const auto& [name, text] : files) {
+        std::filesystem::create_directories(std::filesystem::path(join_path(r.dir, name)).parent_path());
+        write_if_changed(join_path(r.dir, name), text);
+    }
+    const std::string plan_path = join_path(r.dir, "plan.toml");
+    write_if_changed(plan_path, plan_text);
+    std::vector<std::string> warnings;
+    io::SweepPlan plan = io::load_sweep_plan(plan_path, &warnings);
+    print_warnings(warnings);
+    if (plan.size() != what.size()) throw RuntimeError(plan_path + ": " + std::to_string(plan.size()) + " points, expected " + std::to_string(what.size()));
+    if (o.plan_only) {
+        std::cout << "wrote " << plan_path << " (" << plan.size() << " drapes); run it with `woven sweep " << plan_path << " --out " << r.dir
+                  << "`, then `woven experiment " << o.which << " --sweep " << r.dir << "` builds the figures and tables from it\n";
+        return r;
+    }
+    place.run.on_start = [&what](const io::SweepPoint& p) { std::cerr << "woven: experiment: " << what[p.index] << " ...\n" << std::flush; };
+    const SweepRunResult res = run_sweep_points(plan, r.dir, place.run);
+    if (res.signal != 0) throw ExperimentInterrupted{res.signal};
+    if (res.merged.done < plan.size()) {
+        if (res.failed == 0 && place.run.shard.count > 1) {
+            std::cout << "experiment " << o.which << ": this shard's drapes are done, " << res.merged.done << " of " << plan.size()
+                      << " in all; the rank that finds every drape done writes the figures and tables (or run `woven experiment " << o.which
+                      << " --sweep " << r.dir << "` once they are)\n";
+            return r;
+        }
+        throw RuntimeError("experiment " + o.which + ": " + std::to_string(res.merged.failed) + " of " + std::to_string(plan.size()) +
+                           " drapes failed and " + std::to_string(res.merged.missing) + " are missing (see " + join_path(r.dir, "failed") +
+                           "/); nothing written; run it again to retry them");
+    }
+    r.plan = std::move(plan);
+    return r;
+}
+
+/// Stops before publishing when SIGINT or SIGTERM came after the drapes.
+void check_not_interrupted()
+{
+    if (const int sig = sweep_signal_received()) throw ExperimentInterrupted{sig};
 }
 
 render::DrapeScene drape_scene(const Outcome& d, const io::SceneSpec& scene, const kes::FabricData& fabric)
@@ -191,7 +351,7 @@ nlohmann::json outcome_json(const Outcome& d)
 {
     nlohmann::json j{{"fabric", d.fabric}, {"seed", d.seed},     {"converged", d.converged},
                      {"steps", d.steps},   {"wall_s", d.wall_s}, {"energy_J", d.energy_J}};
-    j["folds"] = d.folds ? folds_json(*d.folds) : nlohmann::json(nullptr);
+    j["folds"] = d.folds;
     return j;
 }
 
@@ -205,19 +365,35 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
     std::vector<kes::FabricData> fabrics;
     for (const auto& f : o.fabrics) fabrics.push_back(io::find_fabric(f, &warnings));
     print_warnings(warnings);
-    make_output_dir(o.out);
-    check_output_targets(o.out, {"cube_figure.png", "cube_folds.md", "cube_results.json"});
+    const SweepPlace place = sweep_place(o);
+    if (!o.plan_only) {
+        make_output_dir(o.out);
+        check_output_targets(o.out, {"cube_figure.png", "cube_folds.md", "cube_results.json"});
+    }
+
+    // The drapes: a plan of fabric x seed over the cube (examples/experiment-cube.toml).
+    std::string plan = plan_head("cube", "The cube experiment (Sec. 6, Fig. 8): cotton, wool and polyester/cotton over the 0.5 m cube, seeds 1.." +
+                                             std::to_string(o.seeds)) +
+        "\n[axes]\nfabric = [";
+    std::vector<std::string> what;
+    for (std::size_t f = 0; f < o.fabrics.size(); ++f) {
+        plan += (f ? ", \"" : "\"") + o.fabrics[f] + "\"";
+        for (int s = 1; s <= o.seeds; ++s) what.push_back("cube, " + o.fabrics[f] + ", seed " + std::to_string(s));
+    }
+    plan += "]\nseed = {from = 1, to = " + std::to_string(o.seeds) + "}\n" + plan_options(o, true, false);
+    const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
+    if (!pr.plan) return kExitOk;
+    const SweepFolderLock lock(pr.dir);  // ranks that find every drape done build one after another
+    const std::vector<io::SweepPoint> points = pr.plan->points();
     io::OutputSet set(o.out, {"cube_figure.png", "cube_folds.md"});
-    install_interrupt_handler();
 
     std::vector<std::vector<Outcome>> runs(fabrics.size());
     std::vector<io::SceneSpec> scenes;
-    for (std::size_t f = 0; f < fabrics.size(); ++f)
-        for (int s = 1; s <= o.seeds; ++s) {
-            io::SceneSpec scene = io::find_scene("cube");
-            runs[f].push_back(drape(fabrics[f], o.fabrics[f], static_cast<std::uint64_t>(s), o, scene));
-            if (s == 1) scenes.push_back(std::move(scene));
-        }
+    std::size_t k = 0;
+    for (std::size_t f = 0; f < fabrics.size(); ++f) {
+        scenes.push_back(io::find_scene("cube"));
+        for (int s = 1; s <= o.seeds; ++s) runs[f].push_back(read_outcome(pr.dir, points[k++], o.fabrics[f], s == 1));
+    }
 
     // The figure: one column per fabric (seed 1), rows corner, side, top.
     const int pw = 480, ph = 360, label_h = 40, margin_l = 90;
@@ -254,9 +430,7 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
             md << "| " << d.fabric << " | " << d.seed << " | " << (d.converged ? "yes" : "no") << " |";
             for (int c = 0; c < 4; ++c) {
                 md << " ";
-                if (d.folds)
-                    for (std::size_t h = 0; h < d.folds->sections.size(); ++h)
-                        md << (h ? " / " : "") << corner_cell(d.folds->sections[h].at_corner(c));
+                for (std::size_t h = 0; h < d.sections.size(); ++h) md << (h ? " / " : "") << corner_cell(d.sections[h][c]);
                 md << " |";
             }
             md << "\n";
@@ -276,9 +450,9 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
         std::vector<double> energies;
         for (const Outcome& d : runs[f]) {
             energies.push_back(d.energy_J);
-            if (!d.folds) continue;
+            if (!d.has_folds() || d.sections.empty()) continue;
             for (int c = 0; c < 4; ++c) {
-                const auto b = leaving(d.folds->sections[0].at_corner(c));
+                const auto b = leaving(d.sections[0][c]);
                 ++count[classify(b)];
                 ++corners;
                 if (b.size() == 1) {
@@ -313,6 +487,7 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
                      {"diagonal_tolerance_deg", kDiagonalToleranceDeg},
                      {"corner_cone_deg", kCornerConeDeg}};
     require_finite_experiment(j, "experiment cube");
+    check_not_interrupted();
     j["files"] = set.files_json();
     set.publish("cube_results.json", j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "cube_figure.png") << ", cube_folds.md, cube_results.json\n";
@@ -387,10 +562,41 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     if (reused)
         for (double r : ratios)
             for (double c : lengths) reused_cell(r, c);
-    make_output_dir(o.out);  // after every input is read: a bad one writes nothing
-    check_output_targets(o.out, {"corner_map.png", "corner_map.md", "corner_map.json"});
+    if (o.reuse && o.plan_only) throw InputError(kCommandLine, "--plan-only", "expected no --reuse (reused drapes need no plan)");
+    std::optional<SweepPlace> place;
+    if (!o.reuse) place = sweep_place(o);
+    if (!o.plan_only) {
+        make_output_dir(o.out);  // after every input is read: a bad one writes nothing
+        check_output_targets(o.out, {"corner_map.png", "corner_map.md", "corner_map.json"});
+    }
+    // The drapes: a plan with one fabric file per cell (<sweep>/fabrics/ratio-R_length-C.toml).
+    std::optional<PlanRun> pr;
+    std::optional<SweepFolderLock> lock;
+    std::vector<io::SweepPoint> points;
+    if (!o.reuse) {
+        std::string plan = plan_head("map", "The corner map: synthetic fabrics (cotton's W and shear) of warp/weft bending ratio " +
+                                                fmt("%.3g", ratios.front()) + " .. " + fmt("%.3g", ratios.back()) + " by bending length " +
+                                                fmt("%.3g", lengths.front()) + " .. " + fmt("%.3g", lengths.back()) + " cm over the cube") +
+            "\n[axes]\nfabric = [\n";
+        std::vector<std::pair<std::string, std::string>> files;
+        std::vector<std::string> what;
+        for (double r : ratios)
+            for (double c : lengths) {
+                const std::string name = "fabrics/ratio-" + fmt("%.3g", r) + "_length-" + fmt("%.3g", c) + ".toml";
+                files.emplace_back(name, synthetic_fabric(r, c, cv.W, cv.G));
+                plan += "  \"" + name + "\",\n";
+                what.push_back("cube, ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm, seed 1");
+            }
+        plan += "]\n" + plan_options(o, true, true);
+        pr = run_experiment_plan(o, *place, plan, files, what);
+        if (!pr->plan) return kExitOk;
+        lock.emplace(pr->dir);
+        points = pr->plan->points();
+    } else {
+        install_interrupt_handler();
+    }
     io::OutputSet set(o.out, {"corner_map.png", "corner_map.md"});
-    install_interrupt_handler();
+    std::size_t next = 0;
     for (double r : ratios)
         for (double c : lengths) {
             Outcome d;
@@ -402,13 +608,10 @@ int run_map(const ExperimentOptions& o, const std::string& command)
                 d.converged = rc.converged;
                 for (int k = 0; k < 4; ++k) corner_billows[k] = rc.corners[k];
             } else {
-                std::vector<std::string> w;
-                const kes::FabricData fab = io::parse_fabric(synthetic_fabric(r, c, cv.W, cv.G), "synthetic fabric", &w);
-                io::SceneSpec scene = io::find_scene("cube");
-                d = drape(fab, "ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm", 1, o, scene);
+                d = read_outcome(pr->dir, points[next++], "ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm", false);
                 jc = outcome_json(d);
-                if (d.folds)
-                    for (int k = 0; k < 4; ++k) corner_billows[k] = d.folds->sections[0].at_corner(k);
+                if (d.has_folds() && !d.sections.empty())
+                    for (int k = 0; k < 4; ++k) corner_billows[k] = d.sections[0][k];
             }
             Cell cell;
             cell.ratio = r;
@@ -416,7 +619,7 @@ int run_map(const ExperimentOptions& o, const std::string& command)
             cell.converged = d.converged;
             std::map<Structure, int> count;
             int singles = 0;
-            if (o.reuse ? reused_cell(r, c).has_folds : d.folds.has_value())
+            if (o.reuse ? reused_cell(r, c).has_folds : d.has_folds())
                 for (int k = 0; k < 4; ++k) {
                     const auto all = corner_billows[k];
                     const auto b = leaving(all);
@@ -569,6 +772,8 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     if (o.reuse)
         j["drapes_from"] = {{"file", *o.reuse}, {"command", reused->command}, {"version", reused->version}};
     require_finite_experiment(j, "experiment map");
+    check_not_interrupted();
+    if (o.reuse && interrupt_requested()) throw ExperimentInterrupted{};
     j["files"] = set.files_json();
     set.publish("corner_map.json", j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "corner_map.png") << ", corner_map.md, corner_map.json\n";
@@ -581,22 +786,42 @@ int run_map(const ExperimentOptions& o, const std::string& command)
 int run_figure1(const ExperimentOptions& o, const std::string& command)
 {
     std::vector<std::string> warnings;
-    const kes::FabricData fabric = io::find_fabric("cotton", &warnings);
+    const std::vector<std::string> names = {"chair", "table"};
+    std::vector<io::SceneSpec> scenes;
+    std::vector<kes::FabricData> fabrics;
+    for (const auto& name : names) {
+        scenes.push_back(io::find_scene(name, &warnings));
+        fabrics.push_back(io::find_fabric(scenes.back().fabric, &warnings));
+    }
     print_warnings(warnings);
-    make_output_dir(o.out);
-    check_output_targets(o.out, {"figure1_chair.png", "figure1_table.png", "figure1.md", "figure1.json"});
+    const SweepPlace place = sweep_place(o);
+    if (!o.plan_only) {
+        make_output_dir(o.out);
+        check_output_targets(o.out, {"figure1_chair.png", "figure1_table.png", "figure1.md", "figure1.json"});
+    }
+    // The drapes: each scene with its own fabric, seed 1 (examples/experiment-figure1.toml).
+    std::string plan = plan_head("figure1", "Fig. 1: the chair and the end table, each with its scene's fabric") + "\n[axes]\nscene = [";
+    std::vector<std::string> what;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+        plan += (k ? ", \"" : "\"") + names[k] + "\"";
+        what.push_back(names[k] + ", " + scenes[k].fabric + ", seed 1");
+    }
+    plan += "]\n" + plan_options(o, false, true);
+    const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
+    if (!pr.plan) return kExitOk;
+    const SweepFolderLock lock(pr.dir);
+    const std::vector<io::SweepPoint> points = pr.plan->points();
     io::OutputSet set(o.out, {"figure1_chair.png", "figure1_table.png", "figure1.md"});
-    install_interrupt_handler();
     std::ostringstream md;
     md << "# Fig. 1: a chair and an end table\n\n"
        << provenance(command) << "\n\n| scene | converged | steps | wall (s) |\n|---|---|---|---|\n";
     nlohmann::json runs = nlohmann::json::array();
-    for (const std::string name : {"chair", "table"}) {
-        io::SceneSpec scene = io::find_scene(name);
-        const kes::FabricData f = io::find_fabric(scene.fabric, &warnings);
-        const Outcome d = drape(f, scene.fabric, 1, o, scene);
-        const render::DrapeScene ds = drape_scene(d, scene, f);
-        const std::string png = "figure1_" + std::string(name) + ".png";
+    for (std::size_t k = 0; k < names.size(); ++k) {
+        const std::string& name = names[k];
+        const io::SceneSpec& scene = scenes[k];
+        const Outcome d = read_outcome(pr.dir, points[k], scene.fabric, true);
+        const render::DrapeScene ds = drape_scene(d, scene, fabrics[k]);
+        const std::string png = "figure1_" + name + ".png";
         set.add(png, render::encode_png(picture(ds, render::View::SCENE, 1024, 768), join_path(o.out, png)));
         md << "| " << name << " (" << scene.fabric << ", " << d.grid.nu << " x " << d.grid.nv << ") | " << (d.converged ? "yes" : "no")
            << " | " << d.steps << " | " << fmt("%.0f", d.wall_s) << " |\n";
@@ -607,6 +832,7 @@ int run_figure1(const ExperimentOptions& o, const std::string& command)
     set.add("figure1.md", md.str());
     nlohmann::json j{{"command", command}, {"version", WOVEN_VERSION}, {"runs", runs}};
     require_finite_experiment(j, "experiment figure1");
+    check_not_interrupted();
     j["files"] = set.files_json();
     set.publish("figure1.json", j.dump(1) + "\n");
     std::cout << "wrote " << join_path(o.out, "figure1_chair.png") << ", figure1_table.png, figure1.md\n";
@@ -624,8 +850,14 @@ void add_experiment_command(CLI::App& app, int& exit_code)
                 "cube_results.json.\nmap: the corner structure over synthetic fabrics (warp/weft bending ratio 1/4 .. 4, "
                 "bending length 1 .. 5 cm; --map-grid): corner_map.png, corner_map.md, corner_map.json.\n"
                 "figure1: the chair and the end table (Fig. 1): figure1_chair.png, figure1_table.png, figure1.md, figure1.json.\n"
+                "The drapes are a sweep plan (docs/SWEEP-FORMAT.md; examples/experiment-cube.toml, experiment-figure1.toml) written "
+                "as <sweep>/plan.toml and run as `woven sweep` runs it: one point folder per drape under --sweep, resumed (a drape whose "
+                "folder verifies is not run again), --jobs at once, split by --shard I/N or the launcher's ranks (the rank that finds "
+                "every drape done writes the figures). The figures and tables are then built from each point's report.json and "
+                "drape.obj.\n"
                 "Each experiment's files are one set, its JSON written last naming every file with its SHA-256. Ctrl-C (SIGINT) "
-                "or SIGTERM stops the running drape and exits with 130 or 143 without writing: the folder keeps the previous set.");
+                "or SIGTERM stops the running drapes and exits with 130 or 143 without writing: the folder keeps the previous set "
+                "(finished drapes stay in the sweep folder).");
     sub->add_option("EXPERIMENT", o->which, "cube, map or figure1")->required()->check(CLI::IsMember({"cube", "map", "figure1"}));
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")->capture_default_str()->check(CLI::Range(1, 100));
@@ -635,11 +867,20 @@ void add_experiment_command(CLI::App& app, int& exit_code)
         ->check(CLI::NonNegativeNumber);
     sub->add_option("--map-grid", o->map_grid, "map: RxL, R ratios by L bending lengths")->capture_default_str();
     sub->add_option("--reuse", o->reuse, "map: analyse the drapes of an earlier run again (its corner_map.json), without draping");
+    sub->add_option("--sweep", o->sweep, "The sweep folder: the plan and one folder per drape (default out/experiment-<name>)");
+    sub->add_flag("--plan-only", o->plan_only, "Write the plan (and the map's fabric files) into the sweep folder and stop");
+    sub->add_option("--jobs", o->jobs, "Drapes run at once on this machine")->capture_default_str();
+    sub->add_option("--shard", o->shard, "Run shard I of N (0 <= I < N) of the drapes, as `woven sweep --shard`");
     sub->callback([o, &exit_code, sub] {
+        // The command the results record: the options that change them (not where or how the
+        // drapes ran: --sweep, --plan-only, --jobs, --shard).
         std::string command = "woven experiment " + o->which;
-        for (const CLI::Option* opt : sub->get_options())
-            if (opt->count() > 0 && opt->get_name() != "EXPERIMENT" && !opt->get_lnames().empty())
-                command += " --" + opt->get_lnames()[0] + " " + opt->as<std::string>();
+        for (const CLI::Option* opt : sub->get_options()) {
+            if (opt->count() == 0 || opt->get_name() == "EXPERIMENT" || opt->get_lnames().empty()) continue;
+            const std::string name = opt->get_lnames()[0];
+            if (name == "sweep" || name == "plan-only" || name == "jobs" || name == "shard") continue;
+            command += " --" + name + " " + opt->as<std::string>();
+        }
         try {
             if (o->which == "cube")
                 exit_code = run_cube(*o, command);
@@ -647,9 +888,9 @@ void add_experiment_command(CLI::App& app, int& exit_code)
                 exit_code = run_map(*o, command);
             else
                 exit_code = run_figure1(*o, command);
-        } catch (const ExperimentInterrupted&) {
+        } catch (const ExperimentInterrupted& e) {
             std::cerr << "woven: interrupted; nothing written (the folder keeps the previous complete set)\n";
-            exit_code = interrupted_exit_code();
+            exit_code = e.signal != 0 ? 128 + e.signal : interrupted_exit_code();
         }
     });
 }

@@ -18,6 +18,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -120,24 +121,6 @@ void write_atomic(const fs::path& path, const std::string& text)
         throw RuntimeError(path.string() + ": cannot move into place: " + ec.message());
     }
 }
-
-/// An exclusive flock on a folder for the scope (the merge's; the folder may be shared by ranks).
-class FolderLock {
-public:
-    explicit FolderLock(const std::string& dir)
-    {
-        fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-        if (fd_ < 0) throw RuntimeError(dir + ": cannot open the sweep folder: " + std::strerror(errno));
-        while (::flock(fd_, LOCK_EX) != 0)
-            if (errno != EINTR) throw RuntimeError(dir + ": cannot lock the sweep folder: " + std::strerror(errno));
-    }
-    FolderLock(const FolderLock&) = delete;
-    FolderLock& operator=(const FolderLock&) = delete;
-    ~FolderLock() { ::close(fd_); }
-
-private:
-    int fd_ = -1;
-};
 
 /// What the plan asks of a point, as point.json records it: a finished folder is this point's
 /// only when these match.
@@ -259,6 +242,19 @@ bool in_shard(std::size_t point_index, const ShardSpec& s)
     return static_cast<int>(point_index % static_cast<std::size_t>(s.count)) == s.index;
 }
 
+SweepFolderLock::SweepFolderLock(const std::string& dir)
+{
+    fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd_ < 0) throw RuntimeError(dir + ": cannot open the sweep folder: " + std::strerror(errno));
+    while (::flock(fd_, LOCK_EX) != 0)
+        if (errno != EINTR) {
+            ::close(fd_);
+            throw RuntimeError(dir + ": cannot lock the sweep folder: " + std::strerror(errno));
+        }
+}
+
+SweepFolderLock::~SweepFolderLock() { ::close(fd_); }
+
 namespace {
 
 /// The launcher's ranks on this node, which share its cores (1 when none is known).
@@ -331,9 +327,10 @@ std::string tail_lines(const fs::path& p, int lines)
 
 class SweepRunner {
 public:
-    SweepRunner(const io::SweepPlan& plan, fs::path sweep, int jobs, int threads_per_point)
+    SweepRunner(const io::SweepPlan& plan, fs::path sweep, int jobs, int threads_per_point,
+                std::function<void(const io::SweepPoint&)> on_start = {})
         : plan_(plan), sweep_(std::move(sweep)), work_root_(sweep_ / ".work"), jobs_(jobs), threads_(threads_per_point),
-          host_(host_name())
+          host_(host_name()), on_start_(std::move(on_start))
     {
     }
 
@@ -469,6 +466,7 @@ private:
             ::_exit(127);
         }
         r.pid = pid;
+        if (on_start_) on_start_(p);
         return r;
     }
 
@@ -573,6 +571,7 @@ private:
     fs::path sweep_, work_root_;
     int jobs_, threads_;
     std::string host_;
+    std::function<void(const io::SweepPoint&)> on_start_;
     int failed_ = 0, ran_ = 0;
 };
 
@@ -667,7 +666,7 @@ nlohmann::json point_outputs(const std::string& command, const nlohmann::json& m
 MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
 {
     const fs::path sweep(sweep_dir);
-    const FolderLock lock(sweep_dir);
+    const SweepFolderLock lock(sweep_dir);
     MergeCounts counts;
     nlohmann::json rows = nlohmann::json::array();
     std::vector<std::string> output_keys;
@@ -745,12 +744,10 @@ MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
     return counts;
 }
 
-namespace {
-
 /// Reads every point's overridden scene and fabric with the commands' own readers before
 /// anything runs: a bad value or a key the file does not have (a warning when a scene is read)
 /// is an error naming the plan and the point.
-void validate_overrides(const io::SweepPlan& plan, const std::vector<io::SweepPoint>& points)
+void validate_sweep_overrides(const io::SweepPlan& plan, const std::vector<io::SweepPoint>& points)
 {
     std::set<std::string> seen;
     for (const auto& p : points) {
@@ -781,64 +778,88 @@ void validate_overrides(const io::SweepPlan& plan, const std::vector<io::SweepPo
     }
 }
 
+
+int sweep_signal_received() { return g_sweep_signal.load(); }
+
+bool point_complete(const std::string& dir, const io::SweepPoint& point) { return point_state(dir, point).done; }
+
+SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& out, const SweepRunOptions& o)
+{
+    SweepRunResult res;
+    const std::vector<io::SweepPoint> points = plan.points();
+    validate_sweep_overrides(plan, points);
+    make_output_dir(out);
+    install_sweep_signals();
+    res.points = points.size();
+    std::vector<const io::SweepPoint*> todo;
+    for (const auto& p : points) {
+        if (!in_shard(p.index, o.shard)) continue;
+        ++res.mine;
+        const PointState st = point_state(out, p);
+        if (st.done) {
+            ++res.done_before;
+            continue;
+        }
+        if (!st.problem.empty()) std::cerr << "woven: warning: " << p.name << ": rerun: " << one_line(st.problem) << "\n";
+        todo.push_back(&p);
+    }
+    res.to_run = todo.size();
+    const int jobs = o.jobs;
+    const int cores = available_cores();
+    const int threads = std::max(1, cores / (jobs * local_ranks()));
+    std::cout << "sweep " << plan.name << " (" << plan.command << "): " << points.size() << " points";
+    if (o.shard.count > 1)
+        std::cout << ", shard " << o.shard.index << "/" << o.shard.count << " (" << o.shard.source << "): " << res.mine << " here";
+    std::cout << "; " << res.done_before << " done already, " << todo.size() << " to run, " << jobs << (jobs == 1 ? " job" : " jobs")
+              << " of " << threads << (threads == 1 ? " thread" : " threads") << "; folder " << out << "\n"
+              << std::flush;
+    SweepRunner runner(plan, out, jobs, threads, o.on_start);
+    res.failed = runner.run(todo);
+    res.ran = runner.ran();
+    if (g_sweep_signal.load() != 0) {
+        res.signal = g_sweep_signal.load();
+        std::cerr << "woven: sweep interrupted; " << runner.ran() << " points finished, the others run again next time\n";
+        return res;
+    }
+    res.merged = merge_sweep(plan, out);
+    std::cout << "ran " << res.ran << ", failed " << res.failed << "; merged: " << res.merged.done << " of " << plan.size() << " done, "
+              << res.merged.failed << " failed, " << res.merged.missing << " missing (" << join_path(out, "sweep.csv") << ")\n";
+    return res;
+}
+
+namespace {
+
 int run_sweep(const SweepOptions& o)
 {
     std::vector<std::string> warnings;
     const io::SweepPlan plan = io::load_sweep_plan(o.plan, &warnings);
     print_warnings(warnings);
     const std::string out = o.out ? parse_path(*o.out, "--out") : join_path("out", "sweep-" + plan.name);
-    const int jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
-    const ShardSpec shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
-    const std::vector<io::SweepPoint> points = plan.points();
-    validate_overrides(plan, points);
-    if (o.list) {
-        for (const auto& p : points) {
-            std::cout << p.index << " " << p.name << (in_shard(p.index, shard) ? "" : " (other shard)") << ":";
-            for (const auto& a : p.args) std::cout << " " << a;
-            for (const auto& v : p.scene_overrides) std::cout << " scene." << v.key << "=" << v.text;
-            for (const auto& v : p.fabric_overrides) std::cout << " fabric." << v.key << "=" << v.text;
-            std::cout << "\n";
+    SweepRunOptions run;
+    run.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
+    run.shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
+    if (o.list || o.merge) {
+        const std::vector<io::SweepPoint> points = plan.points();
+        validate_sweep_overrides(plan, points);
+        if (o.list) {
+            for (const auto& p : points) {
+                std::cout << p.index << " " << p.name << (in_shard(p.index, run.shard) ? "" : " (other shard)") << ":";
+                for (const auto& a : p.args) std::cout << " " << a;
+                for (const auto& v : p.scene_overrides) std::cout << " scene." << v.key << "=" << v.text;
+                for (const auto& v : p.fabric_overrides) std::cout << " fabric." << v.key << "=" << v.text;
+                std::cout << "\n";
+            }
+            return kExitOk;
         }
-        return kExitOk;
-    }
-    make_output_dir(out);
-    if (o.merge) {
+        make_output_dir(out);
         const MergeCounts c = merge_sweep(plan, out);
         std::cout << "merged " << plan.size() << " points into " << join_path(out, "sweep.csv") << " and " << join_path(out, "sweep.json")
                   << ": " << c.done << " done, " << c.failed << " failed, " << c.missing << " missing\n";
         return kExitOk;
     }
-    install_sweep_signals();
-    std::vector<const io::SweepPoint*> todo;
-    std::size_t mine = 0, done = 0;
-    for (const auto& p : points) {
-        if (!in_shard(p.index, shard)) continue;
-        ++mine;
-        const PointState st = point_state(out, p);
-        if (st.done) {
-            ++done;
-            continue;
-        }
-        if (!st.problem.empty()) std::cerr << "woven: warning: " << p.name << ": rerun: " << one_line(st.problem) << "\n";
-        todo.push_back(&p);
-    }
-    const int cores = available_cores();
-    const int threads = std::max(1, cores / (jobs * local_ranks()));
-    std::cout << "sweep " << plan.name << " (" << plan.command << "): " << points.size() << " points";
-    if (shard.count > 1) std::cout << ", shard " << shard.index << "/" << shard.count << " (" << shard.source << "): " << mine << " here";
-    std::cout << "; " << done << " done already, " << todo.size() << " to run, " << jobs << (jobs == 1 ? " job" : " jobs") << " of "
-              << threads << (threads == 1 ? " thread" : " threads") << "; folder " << out << "\n"
-              << std::flush;
-    SweepRunner runner(plan, out, jobs, threads);
-    const int failed = runner.run(todo);
-    if (g_sweep_signal.load() != 0) {
-        std::cerr << "woven: sweep interrupted; " << runner.ran() << " points finished, the others run again next time\n";
-        return 128 + g_sweep_signal.load();
-    }
-    const MergeCounts c = merge_sweep(plan, out);
-    std::cout << "ran " << runner.ran() << ", failed " << failed << "; merged: " << c.done << " of " << plan.size() << " done, " << c.failed
-              << " failed, " << c.missing << " missing (" << join_path(out, "sweep.csv") << ")\n";
-    return failed > 0 ? kExitFailure : kExitOk;
+    const SweepRunResult r = run_sweep_points(plan, out, run);
+    if (r.signal != 0) return 128 + r.signal;
+    return r.failed > 0 ? kExitFailure : kExitOk;
 }
 
 }  // namespace

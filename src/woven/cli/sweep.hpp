@@ -1,10 +1,12 @@
 #pragma once
-// What `woven sweep` (cmd_sweep.cpp) shares with `woven report` and the tests: the shard a
-// process runs, the merge of a sweep folder and the main outputs of a point's manifest.
+// What `woven sweep` (cmd_sweep.cpp) shares with `woven experiment`, `woven report` and the
+// tests: the shard a process runs, the run of a plan's points (resume, verify, jobs), the merge
+// of a sweep folder and the main outputs of a point's manifest.
 #include <cstddef>
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -35,6 +37,55 @@ nlohmann::json point_outputs(const std::string& command, const nlohmann::json& m
 
 struct MergeCounts {
     std::size_t done = 0, failed = 0, missing = 0;
+};
+
+/// How run_sweep_points runs a plan.
+struct SweepRunOptions {
+    int jobs = 1;     ///< points at once on this machine
+    ShardSpec shard;  ///< the points of this process
+    /// Called as each point's process starts (`woven experiment` prints what it drapes).
+    std::function<void(const io::SweepPoint&)> on_start;
+};
+
+struct SweepRunResult {
+    std::size_t points = 0;       ///< in the plan
+    std::size_t mine = 0;         ///< in this shard
+    std::size_t done_before = 0;  ///< of this shard, complete before the run (resumed)
+    std::size_t to_run = 0;       ///< of this shard, run now
+    int ran = 0, failed = 0;
+    int signal = 0;               ///< SIGINT / SIGTERM that stopped the run (0: none); nothing merged then
+    MergeCounts merged;           ///< the merge at the end
+};
+
+/// `woven sweep`'s run of a plan, the one point loop of woven (`woven sweep` and `woven
+/// experiment` both run their points here): reads every point's overridden scene and fabric
+/// (InputError naming the plan and the point), creates `dir`, takes over SIGINT and SIGTERM,
+/// runs the points of the shard whose folders do not verify (point_complete), `jobs` at once,
+/// each as a child process, and merges sweep.csv / sweep.json. Prints a line before the run and
+/// one per point (stdout).
+SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& dir, const SweepRunOptions& options);
+
+/// The SIGINT / SIGTERM received since run_sweep_points took them over (0: none).
+int sweep_signal_received();
+
+/// Reads each point's overridden scene and fabric with the commands' own readers: a bad value
+/// or a key the file does not have is an InputError naming the plan and the point.
+void validate_sweep_overrides(const io::SweepPlan& plan, const std::vector<io::SweepPoint>& points);
+
+/// True when <dir>/<point name>/ is complete (its manifest's files verify) and its point.json
+/// records the plan's command line for the point: resume skips it.
+bool point_complete(const std::string& dir, const io::SweepPoint& point);
+
+/// An exclusive flock on a folder (a sweep folder, which ranks share) for its lifetime.
+class SweepFolderLock {
+public:
+    explicit SweepFolderLock(const std::string& dir);
+    SweepFolderLock(const SweepFolderLock&) = delete;
+    SweepFolderLock& operator=(const SweepFolderLock&) = delete;
+    ~SweepFolderLock();
+
+private:
+    int fd_ = -1;
 };
 
 /// Writes <dir>/sweep.json and sweep.csv (one row per point of the plan, in plan order) from
