@@ -525,6 +525,7 @@ std::pair<double, double> map_position(const kes::FabricData& f)
 
 int run_map(const ExperimentOptions& o, const std::string& command)
 {
+    if (o.reuse && o.plan_only) throw InputError(kCommandLine, "--plan-only", "expected no --reuse (reused drapes need no plan)");
     int nr = 0, nc = 0;
     char x = 0, extra = 0;
     if (std::sscanf(o.map_grid.c_str(), "%d%c%d%c", &nr, &x, &nc, &extra) != 3 || x != 'x' || nr < 2 || nc < 2 || nr > 9 || nc > 9)
@@ -562,7 +563,6 @@ int run_map(const ExperimentOptions& o, const std::string& command)
     if (reused)
         for (double r : ratios)
             for (double c : lengths) reused_cell(r, c);
-    if (o.reuse && o.plan_only) throw InputError(kCommandLine, "--plan-only", "expected no --reuse (reused drapes need no plan)");
     std::optional<SweepPlace> place;
     if (!o.reuse) place = sweep_place(o);
     if (!o.plan_only) {
