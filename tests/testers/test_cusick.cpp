@@ -4,6 +4,7 @@
 // The drapes run at 1 cm spacing (about 700 particles) to stay fast.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -255,4 +256,26 @@ TEST(Cusick, TheDiscsHoldTheRingWithoutEscapeOrJitter)
     EXPECT_LT(drift, 1.5e-3);
     EXPECT_GT(r.shadow.drape_coefficient_percent, 40.0);
     EXPECT_LT(r.shadow.drape_coefficient_percent, 95.0);
+}
+
+TEST(Cusick, TheDiscsHoldWhatPinningTheParticlesInsideTheRimHolds)
+{
+    SKIP_UNDER_SANITIZERS();
+    // Contact acts on particles: the discs' true circles hold the cloth out to the last
+    // particle inside r_d, as pinning r <= r_d does (a discrete chain held out to a particle
+    // hinges half a spacing inside it, docs/CUSICK.md), so the discs drape like the pinned
+    // clamp of margin 0 and lower than the default margin's (half a spacing more held).
+    // Flat start, 1 cm: the square grid's symmetric drape at every clamp.
+    const kes::FabricData f = fabric(15, 0.6, 0.6, 1.0);
+    t::CusickOptions o = coarse();
+    o.clamp = t::CusickClamp::DISCS;
+    const double discs = t::run_cusick(f, o).shadow.drape_coefficient_percent;
+    o.clamp = t::CusickClamp::PINNED;
+    o.clamp_margin = 0;
+    const double pinned0 = t::run_cusick(f, o).shadow.drape_coefficient_percent;
+    o.clamp_margin = t::kCusickClampMargin;
+    const double pinned_half = t::run_cusick(f, o).shadow.drape_coefficient_percent;
+    std::printf("discs %.3f  pinned r <= r_d %.3f  pinned r <= r_d + sigma/2 %.3f\n", discs, pinned0, pinned_half);
+    EXPECT_NEAR(discs, pinned0, 1.5);
+    EXPECT_GT(pinned_half, std::max(discs, pinned0) + 2.0);
 }
