@@ -162,6 +162,10 @@ int run_cusick(const CusickCommandOptions& o)
             throw InputError(kCommandLine, "--clamp-margin", "expected only with --clamp pinned");
         co.clamp_margin = parse_number(*o.clamp_margin, "--clamp-margin", -2, 2);
     }
+    if (o.clamp_gap_mm) {
+        if (co.clamp != testers::CusickClamp::DISCS) throw InputError(kCommandLine, "--clamp-gap-mm", "expected only with --clamp discs");
+        co.clamp_gap_m = 1e-3 * parse_positive(*o.clamp_gap_mm, "--clamp-gap-mm", 1e3 * co.solver.contact_distance);
+    }
     std::vector<std::string> warnings;
     const kes::FabricData fabric = command_fabric(o.fabric, o.given_fabric, &warnings);
     print_warnings(warnings);
@@ -266,6 +270,7 @@ int run_cusick(const CusickCommandOptions& o)
     rep["sandwiched_particles"] = setup.sandwiched.size();
     rep["clamp_radius_m"] = setup.clamp_radius;
     rep["pinned_radius_m"] = setup.pinned_radius;
+    if (co.clamp == testers::CusickClamp::DISCS) rep["clamp_gap_m"] = setup.clamp_disc_bottom_z - setup.disc_top_z;
     rep["perturbation_m"] = co.perturbation_m;
     rep["shear_scale"] = co.model.shear_scale;
     rep["specimen_area_m2"] = setup.cut.total_area;
@@ -327,6 +332,7 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                     "pinned (the default: the particles within the disc's radius + --clamp-margin spacings pinned) or discs "
                     "(the ring out to the rim held between the support disc and a clamp disc, true circles)");
     sub->add_option("--clamp-margin", o->clamp_margin, "The pinned clamp's reach beyond the disc's rim, in spacings (default 0.5)");
+    sub->add_option("--clamp-gap-mm", o->clamp_gap_mm, "The discs clamp's gap between the discs, mm (default: the contact distance, 1 mm)");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->callback([o, &exit_code] { exit_code = run_cusick(*o); });

@@ -56,7 +56,9 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
     if (!std::isfinite(o.clamp_margin) || std::abs(o.clamp_margin) > 2)
         throw InputError(kSource, "clamp_margin", "expected a margin between -2 and 2 spacings");
     const bool discs = o.clamp == CusickClamp::DISCS;
-    const double d_hat = o.solver.contact_distance, disc_gap = kCusickDiscsGap * d_hat;
+    const double d_hat = o.solver.contact_distance, disc_gap = o.clamp_gap_m > 0 ? o.clamp_gap_m : kCusickDiscsGap * d_hat;
+    if (!std::isfinite(o.clamp_gap_m) || o.clamp_gap_m < 0 || o.clamp_gap_m > d_hat)
+        throw InputError(kSource, "clamp_gap_m", "expected 0 (the default) or a gap up to the contact distance (" + num(d_hat) + " m)");
     if (discs && !(d_hat > 0)) throw InputError(kSource, "contact_distance", "expected a positive contact distance (the discs' gap)");
     if (discs && (o.start_gap_m < 0 || o.start_gap_m >= disc_gap))
         throw InputError(kSource, "start_gap_m", "expected 0 (half the gap) or a height below the discs' gap (" + num(disc_gap) + " m)");
@@ -79,7 +81,7 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
     c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, c.disc_top_z - o.disc_thickness_m), rd, o.disc_thickness_m));
 
     if (discs) {
-        // The clamp disc: radius r_d, its underside kCusickDiscsGap d^ above the support's top;
+        // The clamp disc: radius r_d, its underside clamp_gap_m above the support's top;
         // the rims of both are true circles (the cylinders' exact distance fields).
         c.clamp_disc_bottom_z = c.disc_top_z + disc_gap;
         c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, c.clamp_disc_bottom_z), rd, o.disc_thickness_m));

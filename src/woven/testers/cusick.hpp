@@ -55,9 +55,9 @@ const char* clamp_name(CusickClamp clamp);
 /// held only by the two discs (it keeps the specimen from sliding: the contact has no friction).
 inline constexpr double kCusickDiscsPinnedInset = 1.5;
 
-/// DISCS: the gap between the two discs, in contact distances d^: both barriers hold every
-/// particle between them (each at d^/2 from either disc at rest, the weight sagging it by
-/// about d^/130).
+/// DISCS: the default gap between the two discs, in contact distances d^: both barriers hold
+/// every particle between them (each at d^/2 from either disc at rest, the weight sagging it
+/// by about d^/130).
 inline constexpr double kCusickDiscsGap = 1.0;
 
 /// The instrument's settings (SI).
@@ -68,6 +68,8 @@ struct CusickOptions {
     CusickClamp clamp = CusickClamp::PINNED;
     /// PINNED: the pinned particles reach r_d + this x spacing.
     double clamp_margin = kCusickClampMargin;
+    /// DISCS: the gap between the discs (m), at most the contact distance; 0: kCusickDiscsGap d^.
+    double clamp_gap_m = 0;
     double disc_thickness_m = 0.003;
     double pedestal_radius_m = 0.015;
     /// Height of the flat start above the support disc's top (m); 0: twice the solver's contact
@@ -97,7 +99,7 @@ struct CusickSetup {
     double disc_top_z = 0;            ///< m
     double clamp_radius = 0;          ///< where the held region ends (m): PINNED r_d + clamp_margin sigma, DISCS r_d
     double pinned_radius = 0;         ///< the pinned particles' reach (m): PINNED = clamp_radius, DISCS r_d - kCusickDiscsPinnedInset sigma
-    double clamp_disc_bottom_z = 0;   ///< DISCS: the clamp disc's underside (m), kCusickDiscsGap d^ above disc_top_z
+    double clamp_disc_bottom_z = 0;   ///< DISCS: the clamp disc's underside (m), clamp_gap_m above disc_top_z
 };
 
 /// Builds the instrument (the perturbation drawn from options.solver.seed). Throws InputError("command line", "--specimen-cm" / "--disc-cm" /
