@@ -39,6 +39,9 @@ TEST_F(CusickCli, HelpAndBadOptions)
          {Bad{"cusick cotton --disc-cm 40", "command line: --disc-cm:"},
           Bad{"cusick cotton --specimen-cm -3", "command line: --specimen-cm:"},
           Bad{"cusick cotton --spacing-cm 4", "command line: --spacing-cm:"}, Bad{"cusick cotton --seeds 0", "command line: --seeds:"},
+          Bad{"cusick cotton --clamp glue", "command line: --clamp:"},
+          Bad{"cusick cotton --clamp discs --clamp-margin 1", "command line: --clamp-margin:"},
+          Bad{"cusick cotton --clamp-margin 3", "command line: --clamp-margin:"},
           Bad{"cusick nosuchfabric", "nosuchfabric"}, Bad{"cusick cotton --spacing-cm abc", "command line: --spacing-cm:"}}) {
         SCOPED_TRACE(b.args);
         const Ran r = woven(std::string(b.args) + " --out o");
@@ -63,7 +66,10 @@ TEST_F(CusickCli, ASmallSpecimenWritesEveryOutput)
     const auto j = nlohmann::json::parse(in);
     EXPECT_NEAR(j.at("specimen_area_m2").get<double>(), 3.14159265358979 * 0.06 * 0.06, 1e-12);
     EXPECT_DOUBLE_EQ(j.at("spacing_m").get<double>(), 0.01);
+    EXPECT_EQ(j.at("clamp").get<std::string>(), "pinned");
     EXPECT_DOUBLE_EQ(j.at("clamp_radius_m").get<double>(), 0.03 + 0.005);  // r_d + sigma / 2
+    EXPECT_DOUBLE_EQ(j.at("pinned_radius_m").get<double>(), 0.03 + 0.005);
+    EXPECT_EQ(j.at("sandwiched_particles").get<int>(), 0);
     EXPECT_DOUBLE_EQ(j.at("perturbation_m").get<double>(), 0.001);
     ASSERT_EQ(j.at("runs").size(), 2u);
     for (const char* k : {"drape_coefficient_percent", "nodes", "node_angles_deg", "node_depths_m", "converged", "drape_coefficient_mean",
@@ -89,4 +95,17 @@ TEST_F(CusickCli, ASmallSpecimenWritesEveryOutput)
     int entries = 0;
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_ / "o")) ++entries;
     EXPECT_EQ(entries, 4);
+}
+
+TEST_F(CusickCli, TheDiscsClampIsWrittenInTheReport)
+{
+    const Ran r = woven("cusick silk --specimen-cm 12 --disc-cm 6 --spacing-cm 1 --clamp discs --no-render --threads 1 --out o");
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::ifstream in(dir_ / "o" / "cusick.json");
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_EQ(j.at("clamp").get<std::string>(), "discs");
+    EXPECT_DOUBLE_EQ(j.at("clamp_radius_m").get<double>(), 0.03);          // the discs' rim
+    EXPECT_DOUBLE_EQ(j.at("pinned_radius_m").get<double>(), 0.03 - 0.015);  // r_d - 1.5 sigma
+    EXPECT_GT(j.at("sandwiched_particles").get<int>(), 8);
+    EXPECT_TRUE(j.at("converged").get<bool>());
 }

@@ -85,10 +85,12 @@ def schemas(woven, schema_dir, work):
     run([woven, "fit", "cotton", "--out", "fit"], work)
     run([woven, "cusick", "silk", "--specimen-cm", "12", "--disc-cm", "6", "--spacing-cm", "1", "--seeds", "2",
          "--no-render", "--threads", "1", "--out", "c"], work)
+    run([woven, "cusick", "silk", "--specimen-cm", "12", "--disc-cm", "6", "--spacing-cm", "1", "--clamp", "discs",
+         "--no-render", "--threads", "1", "--out", "c2"], work)
     run([woven, "kes-test", "cotton", "--test", "bending", "--direction", "warp", "--out", "k"], work)
     cases = [(report, os.path.join(d, "report.json")), (report, os.path.join(work, "cube", "report.json")),
              (report, os.path.join(work, "fit", "report.json")),
-             (cusick, os.path.join(work, "c", "cusick.json")), (kes, os.path.join(work, "k", "kes-report.json"))]
+             (cusick, os.path.join(work, "c", "cusick.json")), (cusick, os.path.join(work, "c2", "cusick.json")), (kes, os.path.join(work, "k", "kes-report.json"))]
     for validator, path in cases:
         with open(path) as f:
             doc = json.load(f)

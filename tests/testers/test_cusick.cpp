@@ -4,6 +4,7 @@
 // The drapes run at 1 cm spacing (about 700 particles) to stay fast.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -174,4 +175,107 @@ TEST(Cusick, AnIsotropicFabricsNodesAreEvenlySpread)
     for (size_t k = 0; k < a.size(); ++k) gaps.push_back(k + 1 < a.size() ? a[k + 1] - a[k] : a[0] + 360 - a[k]);
     const double even = 360.0 / a.size();
     for (double g : gaps) EXPECT_NEAR(g, even, 0.35 * even);
+}
+
+TEST(Cusick, TheDiscsClampHoldsTheRingBetweenTwoTrueCircles)
+{
+    t::CusickOptions o = coarse();
+    o.clamp = t::CusickClamp::DISCS;
+    const t::CusickSetup s = t::make_cusick_setup(o);
+    ASSERT_EQ(s.obstacles.size(), 4u);  // floor, pedestal, support disc, clamp disc
+    const double d_hat = o.solver.contact_distance, rd = 0.09;
+    EXPECT_DOUBLE_EQ(s.clamp_radius, rd);
+    EXPECT_DOUBLE_EQ(s.pinned_radius, rd - t::kCusickDiscsPinnedInset * 0.01);
+    EXPECT_NEAR(s.clamp_disc_bottom_z - s.disc_top_z, t::kCusickDiscsGap * d_hat, 1e-15);
+    // Pinned: the core within r_d - 1.5 sigma; sandwiched: the rest of the kept particles out
+    // to r_d; every kept particle is one, the other or free.
+    int core = 0, ring = 0;
+    for (int j = 0; j < s.grid.nv; ++j)
+        for (int i = 0; i < s.grid.nu; ++i) {
+            const double r = woven::model::rest_uv(s.grid, i, j).norm();
+            if (!s.cut.active[s.grid.index(i, j)]) continue;
+            core += r <= rd - 0.015;
+            ring += r > rd - 0.015 && r <= rd;
+        }
+    EXPECT_EQ(static_cast<int>(s.clamped.size()), core);
+    EXPECT_EQ(static_cast<int>(s.sandwiched.size()), ring);
+    EXPECT_GT(ring, 4 * 8);  // a ring about 1.5 spacings wide round the 9 cm disc
+    // The start lies midway between the discs.
+    for (int p : s.sandwiched) {
+        EXPECT_NEAR(s.initial[p].z() - s.disc_top_z, 0.5 * t::kCusickDiscsGap * d_hat, 1e-12);
+        EXPECT_NEAR(s.clamp_disc_bottom_z - s.initial[p].z(), 0.5 * t::kCusickDiscsGap * d_hat, 1e-12);
+    }
+    // Both rims are true circles: at any angle, a point delta beyond the rim at the height of
+    // the support's top (the clamp's underside) is delta from that disc, whatever the grid.
+    const woven::geometry::Obstacle& support = s.obstacles[2];
+    const woven::geometry::Obstacle& clamp = s.obstacles[3];
+    for (double a = 0; a < 2 * kPi; a += 0.37) {
+        const double delta = 1e-3 * (1 + std::sin(3 * a));
+        const woven::Vec3 on_support((rd + delta) * std::cos(a), (rd + delta) * std::sin(a), s.disc_top_z);
+        const woven::Vec3 on_clamp((rd + delta) * std::cos(a), (rd + delta) * std::sin(a), s.clamp_disc_bottom_z);
+        EXPECT_NEAR(support.distance(on_support), delta, 1e-12);
+        EXPECT_NEAR(clamp.distance(on_clamp), delta, 1e-12);
+        // Between them, just inside the rim: half the gap from either.
+        const woven::Vec3 between((rd - 1e-4) * std::cos(a), (rd - 1e-4) * std::sin(a), 0.5 * (s.disc_top_z + s.clamp_disc_bottom_z));
+        EXPECT_NEAR(support.distance(between), 0.5 * t::kCusickDiscsGap * d_hat, 1e-12);
+        EXPECT_NEAR(clamp.distance(between), 0.5 * t::kCusickDiscsGap * d_hat, 1e-12);
+    }
+    // Bad start heights are errors naming the field.
+    o.start_gap_m = t::kCusickDiscsGap * d_hat;
+    try {
+        t::make_cusick_setup(o);
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "start_gap_m");
+    }
+}
+
+TEST(Cusick, TheDiscsHoldTheRingWithoutEscapeOrJitter)
+{
+    SKIP_UNDER_SANITIZERS();
+    // The library's denim weight and stiffness order (W 15, B 0.6): the hanging part's moment
+    // presses the ring's outer particles onto the support's rim and its inner ones up against
+    // the clamp disc.
+    t::CusickOptions o = coarse(1u);
+    o.clamp = t::CusickClamp::DISCS;
+    const t::CusickSetup s = t::make_cusick_setup(o);
+    const t::CusickResult r = t::run_cusick(fabric(15, 0.6, 0.6, 1.0), o);
+    ASSERT_TRUE(r.drape.converged);
+    EXPECT_LT(r.drape.equilibrium.max_residual_rel, o.solver.residual_tolerance);
+    // Every sandwiched particle ends strictly between the discs and inside the rim (it
+    // neither escapes nor crosses a disc), and within 1.5 mm of where it started in the plane.
+    double lowest = 1, highest = -1, drift = 0;
+    for (int p : s.sandwiched) {
+        const woven::Vec3& x = r.drape.x[p];
+        lowest = std::min(lowest, x.z() - s.disc_top_z);
+        highest = std::max(highest, x.z() - s.clamp_disc_bottom_z);
+        drift = std::max(drift, (x.head<2>() - s.initial[p].head<2>()).norm());
+    }
+    EXPECT_GT(lowest, 0.0);
+    EXPECT_LT(highest, 0.0);
+    EXPECT_LT(drift, 1.5e-3);
+    EXPECT_GT(r.shadow.drape_coefficient_percent, 40.0);
+    EXPECT_LT(r.shadow.drape_coefficient_percent, 95.0);
+}
+
+TEST(Cusick, TheDiscsHoldWhatPinningTheParticlesInsideTheRimHolds)
+{
+    SKIP_UNDER_SANITIZERS();
+    // Contact acts on particles: the discs' true circles hold the cloth out to the last
+    // particle inside r_d, as pinning r <= r_d does (a discrete chain held out to a particle
+    // hinges half a spacing inside it, docs/CUSICK.md), so the discs drape like the pinned
+    // clamp of margin 0 and lower than the default margin's (half a spacing more held).
+    // Flat start, 1 cm: the square grid's symmetric drape at every clamp.
+    const kes::FabricData f = fabric(15, 0.6, 0.6, 1.0);
+    t::CusickOptions o = coarse();
+    o.clamp = t::CusickClamp::DISCS;
+    const double discs = t::run_cusick(f, o).shadow.drape_coefficient_percent;
+    o.clamp = t::CusickClamp::PINNED;
+    o.clamp_margin = 0;
+    const double pinned0 = t::run_cusick(f, o).shadow.drape_coefficient_percent;
+    o.clamp_margin = t::kCusickClampMargin;
+    const double pinned_half = t::run_cusick(f, o).shadow.drape_coefficient_percent;
+    std::printf("discs %.3f  pinned r <= r_d %.3f  pinned r <= r_d + sigma/2 %.3f\n", discs, pinned0, pinned_half);
+    EXPECT_NEAR(discs, pinned0, 1.5);
+    EXPECT_GT(pinned_half, std::max(discs, pinned0) + 2.0);
 }

@@ -152,6 +152,20 @@ int run_cusick(const CusickCommandOptions& o)
     if (auto m = parse_integer(o.max_steps, "--max-steps", 0, 1000000)) co.solver.max_steps = static_cast<int>(*m);
     if (o.shear_law)
         co.model.shear_law = parse_shear_law(*o.shear_law, "--shear-law");
+    if (o.clamp) {
+        if (*o.clamp == "pinned") co.clamp = testers::CusickClamp::PINNED;
+        else if (*o.clamp == "discs") co.clamp = testers::CusickClamp::DISCS;
+        else throw InputError(kCommandLine, "--clamp", "expected pinned or discs, got '" + *o.clamp + "'");
+    }
+    if (o.clamp_margin) {
+        if (co.clamp != testers::CusickClamp::PINNED)
+            throw InputError(kCommandLine, "--clamp-margin", "expected only with --clamp pinned");
+        co.clamp_margin = parse_number(*o.clamp_margin, "--clamp-margin", -2, 2);
+    }
+    if (o.clamp_gap_mm) {
+        if (co.clamp != testers::CusickClamp::DISCS) throw InputError(kCommandLine, "--clamp-gap-mm", "expected only with --clamp discs");
+        co.clamp_gap_m = 1e-3 * parse_positive(*o.clamp_gap_mm, "--clamp-gap-mm", 1e3 * co.solver.contact_distance);
+    }
     std::vector<std::string> warnings;
     const kes::FabricData fabric = command_fabric(o.fabric, o.given_fabric, &warnings);
     print_warnings(warnings);
@@ -162,7 +176,10 @@ int run_cusick(const CusickCommandOptions& o)
         setup = testers::make_cusick_setup(co);
     } catch (const InputError& e) {
         const std::string f = e.field();
-        const std::string opt = f == "specimen_diameter_m" ? "--specimen-cm" : f == "disc_diameter_m" ? "--disc-cm" : "--spacing-cm";
+        const std::string opt = f == "specimen_diameter_m" ? "--specimen-cm"
+                                : f == "disc_diameter_m"   ? "--disc-cm"
+                                : f == "clamp_margin"      ? "--clamp-margin"
+                                                           : "--spacing-cm";
         const std::string what = e.what();
         throw InputError(kCommandLine, opt, what.substr(what.find(f + ": ") + f.size() + 2));
     }
@@ -248,8 +265,12 @@ int run_cusick(const CusickCommandOptions& o)
     rep["spacing_m"] = co.spacing_m;
     rep["grid"] = {setup.grid.nu, setup.grid.nv};
     rep["particles"] = setup.cut.count;
+    rep["clamp"] = testers::clamp_name(co.clamp);
     rep["clamped_particles"] = setup.clamped.size();
+    rep["sandwiched_particles"] = setup.sandwiched.size();
     rep["clamp_radius_m"] = setup.clamp_radius;
+    rep["pinned_radius_m"] = setup.pinned_radius;
+    if (co.clamp == testers::CusickClamp::DISCS) rep["clamp_gap_m"] = setup.clamp_disc_bottom_z - setup.disc_top_z;
     rep["perturbation_m"] = co.perturbation_m;
     rep["shear_scale"] = co.model.shear_scale;
     rep["specimen_area_m2"] = setup.cut.total_area;
@@ -307,6 +328,11 @@ void add_cusick_command(CLI::App& app, int& exit_code)
     sub->add_option("--threads", o->threads, "Worker threads (0: all cores)");
     sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)");
     sub->add_option("--shear-law", o->shear_law, "deembedded (the default: the material's law, docs/VALIDATION.md) or measured (the input curve as read)");
+    sub->add_option("--clamp", o->clamp,
+                    "pinned (the default: the particles within the disc's radius + --clamp-margin spacings pinned) or discs "
+                    "(the ring out to the rim held between the support disc and a clamp disc, true circles)");
+    sub->add_option("--clamp-margin", o->clamp_margin, "The pinned clamp's reach beyond the disc's rim, in spacings (default 0.5)");
+    sub->add_option("--clamp-gap-mm", o->clamp_gap_mm, "The discs clamp's gap between the discs, mm (default: the contact distance, 1 mm)");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->callback([o, &exit_code] { exit_code = run_cusick(*o); });

@@ -78,6 +78,9 @@ struct CusickCommandOptions {
     std::optional<std::string> threads;
     std::optional<std::string> max_steps;
     std::optional<std::string> shear_law;
+    std::optional<std::string> clamp;
+    std::optional<std::string> clamp_margin;
+    std::optional<std::string> clamp_gap_mm;
     std::optional<std::string> out;
     bool no_render = false;
     GivenFabric given_fabric;

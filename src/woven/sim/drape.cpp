@@ -73,18 +73,48 @@ Positions residual_forces(const model::ClothModel& model, const geometry::Obstac
     // reaction, so the inward normal part of its force is not a residual; with friction, nor is
     // a tangential part up to mu times that reaction.
     std::vector<double> distance;
+    std::vector<std::vector<Vec3>> normals(x.size());
     for (size_t o = 0; o < obstacles.size(); ++o) {
         obstacle_distances(obstacles[o], x, distance);
-        for (size_t i = 0; i < x.size(); ++i) {
-            if (distance[i] >= contact_distance) continue;
-            const Vec3 n = obstacles[o].closest(x[i]).normal;
+        for (size_t i = 0; i < x.size(); ++i)
+            if (distance[i] < contact_distance) normals[i].push_back(obstacles[o].closest(x[i]).normal);
+    }
+    for (size_t i = 0; i < x.size(); ++i) {
+        if (normals[i].empty()) continue;
+        if (normals[i].size() == 1) {
+            const Vec3& n = normals[i][0];
             const double fn = force[i].dot(n);
             if (fn >= 0) continue;
             force[i] -= fn * n;
             // Friction holds up to mu times the normal reaction -fn.
             const double ft = force[i].norm();
             force[i] *= ft > 0 ? std::max(0.0, ft + friction * fn) / ft : 0.0;
+            continue;
         }
+        // Several obstacles at once (a particle held between two discs, a corner): the
+        // reactions lambda_k >= 0 along their normals that leave the least force, a small
+        // non-negative least squares solved exactly over the subsets of (at most 4) contacts;
+        // friction then holds up to mu times the reactions' sum.
+        const std::vector<Vec3>& N = normals[i];
+        const int k = static_cast<int>(std::min<size_t>(N.size(), 4));
+        Vec3 best = force[i];
+        double best_reaction = 0;
+        for (int subset = 1; subset < (1 << k); ++subset) {
+            int idx[4], m = 0;
+            for (int j = 0; j < k; ++j)
+                if (subset & (1 << j)) idx[m++] = j;
+            Eigen::MatrixXd A(3, m);
+            for (int c = 0; c < m; ++c) A.col(c) = N[idx[c]];
+            const Eigen::VectorXd lambda = A.colPivHouseholderQr().solve(-force[i]);
+            if ((lambda.array() < 0).any() || !lambda.allFinite()) continue;
+            const Vec3 rest = force[i] + A * lambda;
+            if (rest.norm() < best.norm()) {
+                best = rest;
+                best_reaction = lambda.sum();
+            }
+        }
+        const double ft = best.norm();
+        force[i] = ft > 0 ? Vec3(best * (std::max(0.0, ft - friction * best_reaction) / ft)) : Vec3::Zero();
     }
     return force;
 }

@@ -1,5 +1,6 @@
 #include "woven/testers/cusick.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -34,6 +35,8 @@ std::string num(double v)
 
 }  // namespace
 
+const char* clamp_name(CusickClamp clamp) { return clamp == CusickClamp::DISCS ? "discs" : "pinned"; }
+
 CusickSetup make_cusick_setup(const CusickOptions& o)
 {
     const double R = 0.5 * o.specimen_diameter_m, rd = 0.5 * o.disc_diameter_m, s = o.spacing_m;
@@ -50,6 +53,17 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
         throw InputError(kSource, "perturbation_m", "expected 0 or more, below a quarter of the overhang");
     if (!(o.disc_thickness_m > 0) || !(o.pedestal_radius_m > 0) || !(o.pedestal_radius_m <= rd))
         throw InputError(kSource, "disc_thickness_m", "expected a positive disc thickness and a pedestal no wider than the disc");
+    if (!std::isfinite(o.clamp_margin) || std::abs(o.clamp_margin) > 2)
+        throw InputError(kSource, "clamp_margin", "expected a margin between -2 and 2 spacings");
+    const bool discs = o.clamp == CusickClamp::DISCS;
+    const double d_hat = o.solver.contact_distance, disc_gap = o.clamp_gap_m > 0 ? o.clamp_gap_m : kCusickDiscsGap * d_hat;
+    if (!std::isfinite(o.clamp_gap_m) || o.clamp_gap_m < 0 || o.clamp_gap_m > d_hat)
+        throw InputError(kSource, "clamp_gap_m", "expected 0 (the default) or a gap up to the contact distance (" + num(d_hat) + " m)");
+    if (discs && !(d_hat > 0)) throw InputError(kSource, "contact_distance", "expected a positive contact distance (the discs' gap)");
+    if (discs && (o.start_gap_m < 0 || o.start_gap_m >= disc_gap))
+        throw InputError(kSource, "start_gap_m", "expected 0 (half the gap) or a height below the discs' gap (" + num(disc_gap) + " m)");
+    if (discs && !(rd - kCusickDiscsPinnedInset * s > 0))
+        throw InputError(kSource, "spacing_m", "expected a spacing below " + num(rd / kCusickDiscsPinnedInset) + " m (the discs clamp's pinned core)");
 
     CusickSetup c;
     // An odd number of particles a side (one at the centre), covering the specimen and one
@@ -66,7 +80,13 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
     c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3::Zero(), o.pedestal_radius_m, c.disc_top_z - o.disc_thickness_m));
     c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, c.disc_top_z - o.disc_thickness_m), rd, o.disc_thickness_m));
 
-    const double gap = o.start_gap_m > 0 ? o.start_gap_m : 2 * o.solver.contact_distance;
+    if (discs) {
+        // The clamp disc: radius r_d, its underside clamp_gap_m above the support's top;
+        // the rims of both are true circles (the cylinders' exact distance fields).
+        c.clamp_disc_bottom_z = c.disc_top_z + disc_gap;
+        c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, c.clamp_disc_bottom_z), rd, o.disc_thickness_m));
+    }
+    const double gap = o.start_gap_m > 0 ? o.start_gap_m : discs ? 0.5 * disc_gap : 2 * o.solver.contact_distance;
     c.initial = model::flat_grid(c.grid, Vec3(0, 0, c.disc_top_z + gap));
     // The seeded start: a waviness of the hanging part, a function of the rest position alone
     // (so one seed is one physical start at every spacing): modes k = 1 .. kPerturbationModes
@@ -79,22 +99,27 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
         phase[k] = 2 * std::numbers::pi * uniform01(rng);
         amplitude_sum += amplitude[k];
     }
-    c.clamp_radius = rd + kCusickClampMargin * s;
+    c.clamp_radius = discs ? rd : rd + o.clamp_margin * s;
+    c.pinned_radius = discs ? rd - kCusickDiscsPinnedInset * s : c.clamp_radius;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const int p = c.grid.index(i, j);
             if (!c.cut.active[p]) continue;
             const Vec2 uv = model::rest_uv(c.grid, i, j);
             const double r = uv.norm();
-            if (r <= c.clamp_radius) {
+            if (r <= c.pinned_radius) {
                 c.clamped.push_back(p);
+                continue;
+            }
+            if (r <= c.clamp_radius) {  // DISCS: between the discs, flat at the start
+                c.sandwiched.push_back(p);
                 continue;
             }
             if (!(o.perturbation_m > 0)) continue;
             const double theta = std::atan2(uv.y(), uv.x());
             double wave = 0;
             for (int k = 0; k < kPerturbationModes; ++k) wave += amplitude[k] * std::cos((k + 1) * theta + phase[k]);
-            c.initial[p].z() += o.perturbation_m * std::min(1.0, (r - rd) / (R - rd)) * wave / amplitude_sum;
+            c.initial[p].z() += o.perturbation_m * std::clamp((r - rd) / (R - rd), 0.0, 1.0) * wave / amplitude_sum;
         }
     return c;
 }

@@ -13,9 +13,11 @@
 //     |                    ||                    |
 //   ======================================================  floor (z = 0), R - r_d + 0.1 m below
 //
-// The upper clamping disc is modelled by pinning the particles within r_d + sigma/2 of the
-// centre (kCusickClampMargin) at their flat start; the hanging part meets the support disc's
-// rim as an obstacle.
+// Two clamps (CusickClamp): PINNED pins the particles within r_d + clamp_margin sigma of the
+// centre at their flat start (the upper disc as a staircase of grid particles); DISCS pins only
+// those well inside the disc and holds the ring out to the rim between the support disc and a
+// clamp disc of radius r_d, two obstacles whose rims are true circles. In both the hanging part
+// meets the support disc's rim as an obstacle.
 #include <cstdint>
 
 #include "woven/analysis/drape_shadow.hpp"
@@ -39,15 +41,39 @@ inline constexpr double kCusickDefaultSpacing = 0.005;
 /// (the instruments' clamp line lies midway between pinned rows for the same reason).
 inline constexpr double kCusickClampMargin = 0.5;
 
+/// How the specimen is held on the disc.
+enum class CusickClamp {
+    PINNED,  ///< the kept particles within r_d + clamp_margin sigma pinned at the flat start
+    DISCS,   ///< the particles within r_d - kCusickDiscsPinnedInset sigma pinned; the ring out to r_d held
+             ///< by contact between the support disc and a clamp disc of radius r_d (obstacles)
+};
+
+/// "pinned" or "discs".
+const char* clamp_name(CusickClamp clamp);
+
+/// DISCS: the pinned core ends this many spacings inside the disc's rim; the ring beyond it is
+/// held only by the two discs (it keeps the specimen from sliding: the contact has no friction).
+inline constexpr double kCusickDiscsPinnedInset = 1.5;
+
+/// DISCS: the default gap between the two discs, in contact distances d^: both barriers hold
+/// every particle between them (each at d^/2 from either disc at rest, the weight sagging it
+/// by about d^/130).
+inline constexpr double kCusickDiscsGap = 1.0;
+
 /// The instrument's settings (SI).
 struct CusickOptions {
     double specimen_diameter_m = 0.30;  ///< the standard's; 0.24 and 0.36 m are also used
     double disc_diameter_m = 0.18;      ///< support (and clamp) disc
     double spacing_m = kCusickDefaultSpacing;
+    CusickClamp clamp = CusickClamp::PINNED;
+    /// PINNED: the pinned particles reach r_d + this x spacing.
+    double clamp_margin = kCusickClampMargin;
+    /// DISCS: the gap between the discs (m), at most the contact distance; 0: kCusickDiscsGap d^.
+    double clamp_gap_m = 0;
     double disc_thickness_m = 0.003;
     double pedestal_radius_m = 0.015;
     /// Height of the flat start above the support disc's top (m); 0: twice the solver's contact
-    /// distance.
+    /// distance (PINNED), half the gap between the discs (DISCS; there it must be below the gap).
     double start_gap_m = 0;
     /// Largest vertical offset of the seeded start's waviness (m): real specimens never lie
     /// perfectly flat, and a perfectly flat start would drape with the square grid's symmetry.
@@ -66,11 +92,14 @@ struct CusickSetup {
     model::Grid grid;                 ///< covers the specimen and a ring of particles around it
     model::Outline outline;           ///< the specimen's disc
     model::ClothCut cut;              ///< the particles kept, their areas
-    std::vector<int> clamped;         ///< kept particles within r_d + kCusickClampMargin sigma (pinned)
-    geometry::ObstacleSet obstacles;  ///< floor, pedestal, support disc
+    std::vector<int> clamped;         ///< the pinned particles (PINNED: within r_d + clamp_margin sigma; DISCS: within r_d - kCusickDiscsPinnedInset sigma)
+    std::vector<int> sandwiched;      ///< DISCS: the kept particles held between the discs, not pinned (pinned radius < r <= r_d)
+    geometry::ObstacleSet obstacles;  ///< floor, pedestal, support disc; DISCS: and the clamp disc
     Positions initial;                ///< flat, start_gap_m above the disc, perturbed, one per grid particle
     double disc_top_z = 0;            ///< m
-    double clamp_radius = 0;          ///< r_d + kCusickClampMargin sigma (m): the pinned particles' reach
+    double clamp_radius = 0;          ///< where the held region ends (m): PINNED r_d + clamp_margin sigma, DISCS r_d
+    double pinned_radius = 0;         ///< the pinned particles' reach (m): PINNED = clamp_radius, DISCS r_d - kCusickDiscsPinnedInset sigma
+    double clamp_disc_bottom_z = 0;   ///< DISCS: the clamp disc's underside (m), clamp_gap_m above disc_top_z
 };
 
 /// Builds the instrument (the perturbation drawn from options.solver.seed). Throws InputError("command line", "--specimen-cm" / "--disc-cm" /
