@@ -255,21 +255,22 @@ def main():
         L.append("Run at each value of the bracket of the missing shear rigidity G (the values are not measured; "
                  "README.md says why these). `inside` says whether the measured DC lies within the simulated DC over "
                  "the bracket (the seed means at its ends, widened by their seeds' spread).\n")
-        L.append("| fabric | W mg/cm2 | B gf.cm2/cm | 2HB gf.cm/cm | specimen / disc cm | DC measured % | DC woven %, per G: mean (per seed) | inside | nodes woven, per G | nodes measured |")
+        L.append("| fabric | W mg/cm2 | B gf.cm2/cm | 2HB gf.cm/cm | specimen / disc cm | DC measured % | DC woven %, per G: mean (per seed) | inside (else: points outside) | nodes woven, per G | nodes measured |")
         L.append("|---|---|---|---|---|---|---|---|---|---|")
         for r, pts in supp_rows:
             m = float(r["dc_measured_percent"])
             alld = [d for _, _, x in pts for d in x["dcs"]]
             inside = min(alld) <= m <= max(alld)
+            dist = 0.0 if inside else (min(alld) - m if m < min(alld) else m - max(alld))
             dct = "; ".join(f"G {G:g}: **{x['dc']:.1f}** ({' '.join(f'{d:.1f}' for d in x['dcs'])})" for _, G, x in pts)
             nds = "; ".join(f"G {G:g}: {' '.join(map(str, x['nodes']))}" for _, G, x in pts)
             x0 = pts[0][2]
             geo = f"{x0['spec'] * 100:g} / {x0['disc'] * 100:g}" + ("" if r["geometry_given"] == "yes" else " (assumed)")
             L.append(f"| {r['name']} ({r['label']}) | {float(r['W_mg_cm2']):.2f} | {f3(r['B_warp_gf_cm2_cm'])} | {r['twoHB_gf_cm_cm'] or '-'} | {geo} | "
-                     f"{m:.1f} | {dct} | {'yes' if inside else 'no'} | {nds} | {r['nodes_measured'] or 'not given'} |")
+                     f"{m:.1f} | {dct} | {'yes' if inside else f'no ({dist:.1f})'} | {nds} | {r['nodes_measured'] or 'not given'} |")
             supp.append(dict(name=r["name"], label=r["label"], measured=m, nodes_measured=r["nodes_measured"],
                              runs={f"{G:g}": dict(dc=x["dc"], dcs=x["dcs"], nodes=x["nodes"], converged=x["conv"]) for _, G, x in pts},
-                             inside=inside))
+                             inside=inside, points_outside=dist))
         ins = sum(1 for s in supp if s["inside"])
         L.append(f"\n{ins} of {len(supp)} measured DCs lie inside the simulated interval over the G bracket.")
     L.append("\n![simulated against measured DC](dc_measured_vs_simulated.png)")
