@@ -38,7 +38,7 @@ TEST(SlipLaw, ConstantThresholdIsTheHuberFunction)
     for (int e : {0, 3, 7})
         for (double s : {-0.2, 0.0, 0.13})
             for (double d : {-1.0, -0.05, -0.001, 0.0, 0.002, 0.02, 0.4}) {
-                const double m = law.threshold(e, 0), k = law.k;
+                const double m = law.threshold(e), k = law.k;
                 const double huber = std::abs(d) <= m / k ? 0.5 * k * d * d : m * std::abs(d) - m * m / (2 * k);
                 const Scalar3 el = law.element(e, s + d, s);
                 EXPECT_NEAR(el.value, huber, 1e-15 + 1e-12 * std::abs(huber)) << "e " << e << " s " << s << " d " << d;
@@ -71,10 +71,10 @@ TEST(SlipLaw, ReturnMappingKeepsTheForceAndUnloadsElastically)
     EXPECT_NEAR(before, law.half_width(q), 1e-12);  // virgin, saturated: the half width
     law.update(q, s);
     EXPECT_NEAR(law.total_force(q, s), before, 1e-14);
-    for (int e = 0; e < kSlipElements; ++e) EXPECT_NEAR(law.k * (q - s[e]), law.force(e, q, s[e]), 1e-14);
-    // A small step back is elastic: every element's force falls by k dq.
+    for (int e = 0; e < kSlipElements; ++e) EXPECT_NEAR(law.amplitude(q) * law.k * (q - s[e]), law.force(e, q, s[e]), 1e-14);
+    // A small step back is elastic: every element's unscaled force falls by k dq.
     const double dq = 1e-5;
-    EXPECT_NEAR(law.total_force(q - dq, s), before - kSlipElements * law.k * dq, 1e-12);
+    EXPECT_NEAR(law.total_force(q - dq, s), law.amplitude(q - dq) * (before / law.amplitude(q) - kSlipElements * law.k * dq), 1e-12);
     // The energy of a step is zero at the state's own strain for an element at rest...
     SlipState rest{};
     EXPECT_EQ(law.energy(0.0, rest).value, 0.0);
@@ -86,7 +86,7 @@ TEST(SlipLaw, SingleElementLoopIsTheClosedForm)
 {
     const SlipLaw law = bending_law();
     const int e = 5;
-    const double m = law.threshold(e, 0), k = law.k, A = 10 * m / k;
+    const double m = law.threshold(e), k = law.k, A = 10 * m / k;
     double s = 0;
     std::vector<double> path;
     for (int i = 0; i <= 100; ++i) path.push_back(A * i / 100.0);

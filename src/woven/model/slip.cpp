@@ -16,20 +16,25 @@ const char* to_string(Hysteresis h) { return h == Hysteresis::FRICTION ? "fricti
 
 double SlipLaw::half_width(double q) const { return std::max(h0 + dh * std::abs(q), 0.0); }
 
-double SlipLaw::force(int e, double q, double s) const
+double SlipLaw::amplitude_slope(double q) const
 {
-    const double m = threshold(e, q);
+    if (!(h0 + dh * std::abs(q) > 0)) return 0;
+    return dh * (q > 0 ? 1.0 : (q < 0 ? -1.0 : 0.0)) / h_ref;
+}
+
+double SlipLaw::jenkins(int e, double q, double s) const
+{
+    const double m = threshold(e);
     return std::clamp(k * (q - s), -m, m);
 }
 
 Scalar3 SlipLaw::element(int e, double q, double s) const
 {
-    // F is piecewise linear in q: its kinks are where the elastic line k (t - s) meets +-m_e(t)
-    // on either side of 0, where m_e(t) reaches 0, and at 0 itself. The trapezoidal rule over
-    // the pieces between s and q is then exact.
-    const double w = share[e];
+    // F = g J is the product of two piecewise linear functions: J's kinks are at s +- m_e/k,
+    // g's at 0 and where h reaches 0. Between them F is quadratic and Simpson's rule exact.
+    const double m = threshold(e);
     const double lo = std::min(q, s), hi = std::max(q, s);
-    double points[12];
+    double points[8];
     int n = 0;
     points[n++] = lo;
     auto add = [&](double t) {
@@ -40,27 +45,22 @@ Scalar3 SlipLaw::element(int e, double q, double s) const
         add(h0 / -dh);
         add(h0 / dh);
     }
-    for (double su : {-1.0, 1.0})
-        for (double st : {-1.0, 1.0}) {
-            const double den = k - su * st * w * dh;
-            if (den != 0) add((k * s + su * w * h0) / den);
-        }
+    add(s - m / k);
+    add(s + m / k);
     points[n++] = hi;
-    for (int i = 1; i < n; ++i)  // insertion sort of at most 9 points
+    for (int i = 1; i < n; ++i)  // insertion sort of at most 7 points
         for (int j = i; j > 0 && points[j - 1] > points[j]; --j) std::swap(points[j - 1], points[j]);
     double integral = 0;
-    for (int i = 0; i + 1 < n; ++i) integral += 0.5 * (force(e, points[i], s) + force(e, points[i + 1], s)) * (points[i + 1] - points[i]);
+    for (int i = 0; i + 1 < n; ++i) {
+        const double a = points[i], b = points[i + 1];
+        integral += (b - a) / 6.0 * (force(e, a, s) + 4.0 * force(e, 0.5 * (a + b), s) + force(e, b, s));
+    }
     Scalar3 out;
     out.value = q >= s ? integral : -integral;
-    out.d1 = force(e, q, s);
-    const double m = threshold(e, q);
-    const double trial = k * (q - s);
-    if (std::abs(trial) < m || (m == 0 && trial == 0))
-        out.d2 = k;
-    else {
-        const double dm = h0 + dh * std::abs(q) > 0 ? w * dh * (q > 0 ? 1.0 : (q < 0 ? -1.0 : 0.0)) : 0.0;
-        out.d2 = trial > 0 ? dm : -dm;
-    }
+    const double J = jenkins(e, q, s);
+    out.d1 = amplitude(q) * J;
+    const double dJ = std::abs(k * (q - s)) < m ? k : 0.0;
+    out.d2 = amplitude_slope(q) * J + amplitude(q) * dJ;
     return out;
 }
 
@@ -78,7 +78,7 @@ Scalar3 SlipLaw::energy(double q, const SlipState& state) const
 
 void SlipLaw::update(double q, SlipState& state) const
 {
-    for (int e = 0; e < kSlipElements; ++e) state[e] = q - force(e, q, state[e]) / k;
+    for (int e = 0; e < kSlipElements; ++e) state[e] = q - jenkins(e, q, state[e]) / k;
 }
 
 double SlipLaw::total_force(double q, const SlipState& state) const
@@ -101,8 +101,9 @@ SlipLaw make_slip_law(double q_a, double h_a, double q_b, double h_b, double q1)
         }
     } else
         law.h0 = h_a;
-    const double h_rise = std::max(law.half_width(0.5 * q1), 1e-300);
-    law.k = 2.0 * h_rise / (q1 * kSlipElements);
+    law.h_ref = law.half_width(q_a);
+    if (!(law.h_ref > 0)) law.h_ref = law.half_width(q_b);
+    law.k = 2.0 * law.h_ref / (q1 * kSlipElements);
     for (int e = 0; e < kSlipElements; ++e) law.share[e] = 2.0 * (e + 0.5) / (kSlipElements * kSlipElements);
     return law;
 }

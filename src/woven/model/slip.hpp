@@ -15,21 +15,23 @@
 //   crossings: q = sin(phi) = -c (terms.hpp), so that dE/dphi = F cos(phi), the trellis
 //              energy's own form (Eq. 14-15).
 //
-// The element's force is the return mapping of its trial state, F_e(q) = clamp(k (q - s_e),
-// -m_e(q), +m_e(q)), s_e the state of the last converged step; the step's energy is its
-// integral from s_e, E_e(q) = integral_{s_e}^{q} F_e. With a constant threshold (bending) it is
-// the condensed convex C1 form min_s [k (q - s)^2 / 2 + m |s - s_e|], the Huber function of
-// q - s_e: k d^2/2 for |d| <= m/k, m |d| - m^2/(2k) beyond. Shear thresholds grow with |q| (the
-// KES widths 2HG at 0.5 and 2HG5 at 5 degrees differ: yarns jam and press harder): the same
-// integral, C1, piecewise quadratic, its second derivative k or +-dm/dq (small against the
-// elastic G). Every solver step thus stays a smooth minimisation; after a converged step
-// update_slip sets s_e = q - F_e(q)/k (the return mapping), reset_slip the virgin state 0.
+// Element e's force is the return mapping of its trial state scaled by the family's amplitude,
+// F_e(q) = g(q) clamp(k (q - s_e), -m_e, +m_e), s_e the state of the last converged step, and
+// the step's energy is its integral from s_e, E_e(q) = integral_{s_e}^{q} F_e. For bending g = 1
+// and E_e is the condensed convex C1 form min_s [k (q - s)^2 / 2 + m_e |s - s_e|], the Huber
+// function of q - s_e: k d^2/2 for |d| <= m_e/k, m_e |d| - m_e^2/(2k) beyond. The KES shear widths
+// differ at 0.5 and 5 degrees (2HG, 2HG5: the yarns jam and press harder), so for shear the
+// amplitude g(q) = h(|q|) / h_ref grows (or falls) linearly with |q|: E_e is then C1 and piecewise
+// cubic, its second derivative g' J + g J' (J' = k or 0), g' small against the elastic G; the
+// slip itself (s_e) and each element's yield strain m_e / k do not depend on g. Every solver step
+// thus stays a smooth minimisation; after a converged step update_slip sets s_e = q - J_e(q)/k
+// (the return mapping), reset_slip the virgin state 0.
 //
-// The elements' thresholds are graded (m_e = w_e h(|q|), w_e = 2 (e + 1/2) / N^2, equal k =
-// 2 h / (q1 N)), so that the virgin friction rises as h r(q / q1), r(u) = 1 - (1 - u)^2 (the
-// rise of the synthesised KES curves, kes/fabric.hpp), by N linear pieces, and a reversal
-// follows Masing's rule (the virgin rise stretched twice): a loop's half width is h(|q|),
-// 2HB/2 at 1 1/cm for bending, linear through 2HG/2 at 0.5 and 2HG5/2 at 5 degrees for shear.
+// The elements' thresholds are graded (m_e = w_e h_ref, w_e = 2 (e + 1/2) / N^2, equal k =
+// 2 h_ref / (q1 N)), so that the virgin friction rises as h(|q|) r(q / q1), r(u) = 1 - (1 - u)^2
+// (the rise of the synthesised KES curves, kes/fabric.hpp), by N linear pieces, and a reversal
+// follows Masing's rule (the virgin rise stretched twice): a loop's half width is h(|q|), 2HB/2
+// at 1 1/cm for bending, linear through 2HG/2 at 0.5 and 2HG5/2 at 5 degrees for shear.
 #include <array>
 #include <vector>
 
@@ -63,28 +65,35 @@ using SlipState = std::array<double, kSlipElements>;
 struct SlipLaw {
     double h0 = 0;  ///< the loop's half width h(|q|) = max(h0 + dh |q|, 0)
     double dh = 0;
-    double k = 0;  ///< each element's stiffness (force per unit q); 0: no friction
+    double h_ref = 0;  ///< the half width the thresholds are set for: g(q) = h(|q|) / h_ref
+    double k = 0;      ///< each element's stiffness (force per unit q); 0: no friction
     std::array<double, kSlipElements> share{};  ///< w_e, summing to 1
     double scale = 0;  ///< J per (force unit x q unit), set by the model: sigma_cm^2 J/(gf.cm)
 
     bool active() const { return k > 0; }
     double half_width(double q) const;
-    /// m_e(q) = w_e h(|q|).
-    double threshold(int e, double q) const { return share[e] * half_width(q); }
-    /// F_e(q) = clamp(k (q - s), -m_e(q), m_e(q)).
-    double force(int e, double q, double s) const;
+    /// g(q) and dg/dq.
+    double amplitude(double q) const { return half_width(q) / h_ref; }
+    double amplitude_slope(double q) const;
+    /// m_e = w_e h_ref.
+    double threshold(int e) const { return share[e] * h_ref; }
+    /// J_e(q) = clamp(k (q - s), -m_e, m_e), the element's unscaled force.
+    double jenkins(int e, double q, double s) const;
+    /// F_e(q) = g(q) J_e(q).
+    double force(int e, double q, double s) const { return amplitude(q) * jenkins(e, q, s); }
     /// E_e(q) = integral_s^q F_e, F_e(q), dF_e/dq (in force x q units, not scaled).
     Scalar3 element(int e, double q, double s) const;
     /// The sum over the elements of `state`, scaled to J (value, dE/dq, d2E/dq2).
     Scalar3 energy(double q, const SlipState& state) const;
-    /// The return mapping: each s_e = q - F_e(q)/k.
+    /// The return mapping: each s_e = q - J_e(q)/k.
     void update(double q, SlipState& state) const;
     /// The total friction force sum_e F_e(q) (force units).
     double total_force(double q, const SlipState& state) const;
 };
 
 /// A law whose half width is linear through (q_a, h_a) and (q_b, h_b) (constant when q_a ==
-/// q_b; a line through 0 or below is cut at 0) and whose virgin friction saturates at q1.
+/// q_b; a line that would pass below 0 at q = 0 is taken through the origin and (q_b, h_b)),
+/// h_ref = its half width at q_a, and whose virgin friction saturates at q1.
 /// h_a = h_b = 0: an inactive law.
 SlipLaw make_slip_law(double q_a, double h_a, double q_b, double h_b, double q1);
 
