@@ -48,7 +48,6 @@ TEST_P(KesHysteresis, BendingLoopsHaveTheInputWidthAndB)
         // Back at 0 the friction holds +2HB/2: it slid back at -2.5 1/cm and loaded up by 2.5
         // 1/cm, past every element's yield.
         EXPECT_NEAR(r.loop_y.back(), 0.5 * m.summary->two_HB, 0.05 * m.summary->two_HB);
-        if (getenv("WOVEN_DUMP")) for (size_t k = 0; k < r.loop_x.size(); ++k) printf("%g %g %g\n", r.loop_x[k], r.loop_y[k], r.loop_y_input[k]);
     }
 }
 
@@ -71,7 +70,6 @@ TEST_P(KesHysteresis, ShearLoopHasTheInputWidthsAndG)
     EXPECT_NEAR(r.simulated_hysteresis5 / r.input_hysteresis5 - 1, 0.0, 0.05);
     EXPECT_NEAR(r.hysteresis_rel_error, 0.0, 0.05);
     EXPECT_LT(r.loop_max_rel_error, 0.05);
-    if (getenv("WOVEN_DUMP")) for (size_t k = 0; k < r.loop_x.size(); ++k) printf("%g %g %g\n", r.loop_x[k], r.loop_y[k], r.loop_y_input[k]);
 }
 
 INSTANTIATE_TEST_SUITE_P(BuiltIn, KesHysteresis, testing::ValuesIn(io::builtin_fabric_names()),
