@@ -1,6 +1,7 @@
 // woven kes-test FABRIC: the virtual instruments (testers/) run on the model: the cantilever
 // (ASTM D1388), KES-FB2 pure bending and KES-FB1 shear, each a static simulation of a specimen
 // of the model's particles, against the fabric's input values.
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -56,7 +57,42 @@ struct Row {
     std::optional<double> bending_length_m, elastica_bending_length_m;
     std::optional<double> central, central_rel;  ///< shear: the middle half of the clamp (kes_shear.hpp)
     int solves_or_iterations = 0;
+    const testers::KesCurveResult* loop = nullptr;  ///< bending, shear with a loop run (FRICTION)
 };
+
+/// The loop of a FRICTION run: every step, simulated and input (KesCurveResult::loop_y_input).
+std::string loop_csv(const testers::KesCurveResult& r, const std::string& x_name, const std::string& y_name)
+{
+    std::ostringstream s;
+    s.precision(10);
+    s << "step," << x_name << ",simulated_" << y_name << ",input_" << y_name << "\n";
+    for (std::size_t k = 0; k < r.loop_x.size(); ++k) s << k << "," << r.loop_x[k] << "," << r.loop_y[k] << "," << r.loop_y_input[k] << "\n";
+    return s.str();
+}
+
+render::Image loop_plot(const std::string& title, const std::string& x_label, const std::string& y_label,
+                        const std::vector<testers::KesCurveResult>& results)
+{
+    render::Plot p;
+    p.title = title;
+    p.x_label = x_label;
+    p.y_label = y_label;
+    for (const auto& r : results) {
+        if (!r.loop) continue;
+        render::Series in, sim;
+        in.x = r.loop_x;
+        in.y = r.loop_y_input;
+        in.style = render::Series::Style::LINE;
+        in.label = "input loop " + testers::to_string(r.direction);
+        sim.x = r.loop_x;
+        sim.y = r.loop_y;
+        sim.style = render::Series::Style::POINTS;
+        sim.label = "simulated " + testers::to_string(r.direction);
+        p.series.push_back(in);
+        p.series.push_back(sim);
+    }
+    return render::plot(p, 900, 620);
+}
 
 std::string curve_csv(const testers::KesCurveResult& r, const std::string& x_name, const std::string& y_name)
 {
@@ -228,6 +264,12 @@ int run_kes_test(const KesTestOptions& options)
             : model::Discretization::PAPER;
     if (options.shear_law)
         mo.shear_law = parse_shear_law(*options.shear_law, "--shear-law");
+    // kes-test shows the loops: friction unless asked otherwise (the model's default is the
+    // loading branch).
+    mo.hysteresis = model::Hysteresis::FRICTION;
+    if (options.hysteresis)
+        mo.hysteresis = parse_choice(*options.hysteresis, "--hysteresis", {"friction", "loading-branch"}) == 0 ? model::Hysteresis::FRICTION
+                                                                                                              : model::Hysteresis::LOADING_BRANCH;
     if (options.out) parse_path(*options.out, "--out");
     std::vector<std::string> warnings;
     const kes::FabricData fabric = command_fabric(options.fabric, options.given_fabric, &warnings);
@@ -245,6 +287,10 @@ int run_kes_test(const KesTestOptions& options)
         for (const char* d : {"warp", "weft"}) members.push_back(std::string(t) + "_" + d + ".csv");
         members.push_back(std::string(t) + ".png");
     }
+    for (const char* t : {"bending", "shear"}) {
+        for (const char* d : {"warp", "weft"}) members.push_back(std::string(t) + "_loop_" + d + ".csv");
+        members.push_back(std::string(t) + "_loop.png");
+    }
     make_output_dir(dir);
     members.push_back("kes-report.json");
     check_output_targets(dir, members);
@@ -256,6 +302,10 @@ int run_kes_test(const KesTestOptions& options)
     std::vector<Row> rows;
     std::vector<std::pair<std::string, std::string>> csv;  // name, contents
     std::vector<std::pair<std::string, render::Image>> png;
+    // Kept to the end: the rows point at their loops.
+    std::vector<testers::KesCurveResult> bending_results, shear_results;
+    bending_results.reserve(directions.size());
+    shear_results.reserve(directions.size());
 
     if (run_cantilever) {
         testers::CantileverOptions co;
@@ -321,6 +371,7 @@ int run_kes_test(const KesTestOptions& options)
                 row.central = r.central_summary;
                 row.central_rel = r.central_rel_error;
             }
+            if (r.loop) row.loop = &r;
             rows.push_back(row);
         }
     };
@@ -328,27 +379,37 @@ int run_kes_test(const KesTestOptions& options)
         testers::BendingTestOptions bo;
         bo.sigma = (sigma_cm ? *sigma_cm : kDefaultBendingSigmaCm) * units::kCmToM;
         bo.model = mo;
-        std::vector<testers::KesCurveResult> results;
+        std::vector<testers::KesCurveResult>& results = bending_results;
         for (testers::Direction d : directions) {
             results.push_back(testers::kes_bending_test(fabric, d, bo));
             csv.emplace_back("bending_" + testers::to_string(d) + ".csv", curve_csv(results.back(), "K_per_cm", "M_gf_cm_per_cm"));
+            if (results.back().loop)
+                csv.emplace_back("bending_loop_" + testers::to_string(d) + ".csv", loop_csv(results.back(), "K_per_cm", "M_gf_cm_per_cm"));
         }
         kes_rows(results, "gf.cm2/cm");
         png.emplace_back("bending.png",
                          curve_plot("KES-FB2 pure bending, " + name, "curvature K (1/cm)", "moment M (gf.cm/cm)", results, fabric, true));
+        if (std::any_of(results.begin(), results.end(), [](const auto& r) { return r.loop; }))
+            png.emplace_back("bending_loop.png", loop_plot("KES-FB2 loop 0 -> +2.5 -> -2.5 -> 0 1/cm (friction), " + name, "curvature K (1/cm)",
+                                                           "moment M (gf.cm/cm)", results));
     }
     if (run_shear) {
         testers::ShearTestOptions so;
         so.sigma = (sigma_cm ? *sigma_cm : kDefaultShearSigmaCm) * units::kCmToM;
         so.length = shear_length_m;
         so.model = mo;
-        std::vector<testers::KesCurveResult> results;
+        std::vector<testers::KesCurveResult>& results = shear_results;
         for (testers::Direction d : directions) {
             results.push_back(testers::kes_shear_test(fabric, d, so));
             csv.emplace_back("shear_" + testers::to_string(d) + ".csv", curve_csv(results.back(), "phi_deg", "F_gf_per_cm"));
+            if (results.back().loop)
+                csv.emplace_back("shear_loop_" + testers::to_string(d) + ".csv", loop_csv(results.back(), "phi_deg", "F_gf_per_cm"));
         }
         kes_rows(results, "gf/(cm.deg)");
         png.emplace_back("shear.png", curve_plot("KES-FB1 shear, " + name, "shear angle (deg)", "force F (gf/cm)", results, fabric, false));
+        if (std::any_of(results.begin(), results.end(), [](const auto& r) { return r.loop; }))
+            png.emplace_back("shear_loop.png", loop_plot("KES-FB1 loop 0 -> +8 -> -8 -> 0 degrees (friction), " + name, "shear angle (deg)",
+                                                         "force F (gf/cm)", results));
     }
 
     nlohmann::json convergence = nlohmann::json::array();
@@ -363,7 +424,7 @@ int run_kes_test(const KesTestOptions& options)
     // Table.
     std::cout << "fabric " << name << " (bending form " << (mo.bending_form == model::BendingForm::WORK ? "work" : "secant")
               << ", discretization " << (mo.discretization == model::Discretization::PAPER ? "paper" : "convergent") << ", "
-              << shear_law_text(mo) << ")\n";
+              << shear_law_text(mo) << ", hysteresis " << model::to_string(mo.hysteresis) << ")\n";
     std::printf("%-10s %-5s %8s %12s %12s %9s %9s  %s\n", "test", "dir", "sigma_cm", "input", "simulated", "rel_err", "curve_err", "unit");
     for (const Row& r : rows) {
         std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", r.test.c_str(), r.direction.c_str(), r.sigma_m * units::kMToCm,
@@ -371,11 +432,25 @@ int run_kes_test(const KesTestOptions& options)
         if (r.central)
             std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %9s  %s\n", "  centre", r.direction.c_str(), r.sigma_m * units::kMToCm, r.input,
                         *r.central, 100 * *r.central_rel, "", r.unit.c_str());
+        if (r.loop) {
+            const testers::KesCurveResult& l = *r.loop;
+            const bool shear = l.hysteresis5_at > 0;
+            std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", shear ? "  2HG" : "  2HB", r.direction.c_str(),
+                        r.sigma_m * units::kMToCm, l.input_hysteresis, l.simulated_hysteresis,
+                        100 * (l.simulated_hysteresis - l.input_hysteresis) / l.input_hysteresis, 100 * l.loop_max_rel_error,
+                        shear ? "gf/cm" : "gf.cm/cm");
+            if (shear)
+                std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %9s  %s\n", "  2HG5", r.direction.c_str(), r.sigma_m * units::kMToCm,
+                            l.input_hysteresis5, l.simulated_hysteresis5, 100 * (l.simulated_hysteresis5 - l.input_hysteresis5) / l.input_hysteresis5,
+                            "", "gf/cm");
+        }
     }
     std::cout << "cantilever: input = the exact elastica's flexural rigidity W g c^3 for the input curve, rel_err = bending length vs the "
                  "elastica's, curve_err = largest shape difference / tip drop; bending, shear: input = the file's B, G (or its curve's KES "
                  "slope), curve_err = largest relative difference from the input curve over 0.5..2.5 1/cm, 0.5..8 deg; shear centre: the middle "
-                 "half of the moving clamp, away from the specimen's free short edges (the material's law)\n";
+                 "half of the moving clamp, away from the specimen's free short edges (the material's law); 2HB, 2HG, 2HG5 (friction): the "
+                 "loop's widths at 1 1/cm, 0.5 and 5 deg, simulated (B, G: the loop's mean branch slope), curve_err = the loop's largest "
+                 "difference from the input loop / its amplitude\n";
 
     // Files: staged atomically, kes-report.json last.
     nlohmann::json report = {{"version", WOVEN_VERSION},
@@ -385,7 +460,8 @@ int run_kes_test(const KesTestOptions& options)
                              {"bending_form", mo.bending_form == model::BendingForm::WORK ? "work" : "secant"},
                              {"discretization", mo.discretization == model::Discretization::PAPER ? "paper" : "convergent"},
                              {"shear_law", to_string(mo.shear_law)},
-                             {"shear_scale", mo.shear_scale}};
+                             {"shear_scale", mo.shear_scale},
+                             {"hysteresis", model::to_string(mo.hysteresis)}};
     nlohmann::json tests = nlohmann::json::array();
     for (const Row& r : rows) {
         nlohmann::json t = {{"test", r.test},
@@ -399,6 +475,25 @@ int run_kes_test(const KesTestOptions& options)
         if (r.central) {
             t["central_summary"] = finite_or_null(*r.central);
             t["central_rel_error"] = finite_or_null(*r.central_rel);
+        }
+        if (r.test != "cantilever") {
+            // Hysteresis: null where no loop was run (loading-branch, or a curve given as points).
+            t["input_hysteresis"] = nullptr;
+            t["simulated_hysteresis"] = nullptr;
+            t["hysteresis_rel_error"] = nullptr;
+            t["loop_max_rel_error"] = nullptr;
+            if (r.loop) {
+                const testers::KesCurveResult& l = *r.loop;
+                if (r.test == "bending") {
+                    t["input_hysteresis"] = {{"2HB", finite_or_null(l.input_hysteresis)}};
+                    t["simulated_hysteresis"] = {{"2HB", finite_or_null(l.simulated_hysteresis)}};
+                } else {
+                    t["input_hysteresis"] = {{"2HG", finite_or_null(l.input_hysteresis)}, {"2HG5", finite_or_null(l.input_hysteresis5)}};
+                    t["simulated_hysteresis"] = {{"2HG", finite_or_null(l.simulated_hysteresis)}, {"2HG5", finite_or_null(l.simulated_hysteresis5)}};
+                }
+                t["hysteresis_rel_error"] = finite_or_null(l.hysteresis_rel_error);
+                t["loop_max_rel_error"] = finite_or_null(l.loop_max_rel_error);
+            }
         }
         if (r.bending_length_m) {
             t["bending_length_m"] = finite_or_null(*r.bending_length_m);
@@ -427,7 +522,11 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
     sub->footer("Each test is a static simulation of a specimen of the model's particles (docs/VALIDATION.md says how each maps onto the "
                 "grid). Prints input vs simulated summary values and writes to --out (default out/kes-<name>): <test>_<direction>.csv, "
                 "cantilever.png, bending.png, shear.png and kes-report.json (list 'tests': test, direction, sigma_m, input_summary, "
-                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m; shear also central_summary, central_rel_error: the middle half of the clamp, away from the free short edges). The files are one set: "
+                "simulated_summary, summary_rel_error, curve_max_rel_error; cantilever also bending_length_m, elastica_bending_length_m; shear also central_summary, central_rel_error: the middle half of the clamp, away from the free short edges; bending and shear also "
+                "input_hysteresis and simulated_hysteresis ({\"2HB\": gf.cm/cm} or {\"2HG\", \"2HG5\": gf/cm}), hysteresis_rel_error (the worst) and "
+                "loop_max_rel_error, null without a loop). With --hysteresis friction (the default) bending and shear run full loops "
+                "(0 -> +2.5 -> -2.5 -> 0 1/cm, 0 -> +8 -> -8 -> 0 degrees) for the curves given with a hysteresis width: <test>_loop_<direction>.csv "
+                "and <test>_loop.png. The files are one set: "
                 "kes-report.json is written last and names every file with its size and SHA-256; files of an earlier run's other tests are removed.");
     sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")->required();
     sub->add_option("--test", options->test, "cantilever, bending, shear or all")->capture_default_str();
@@ -440,6 +539,9 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
     sub->add_option("--discretization", options->discretization, "convergent or paper (default: the model's, convergent)");
     sub->add_option("--shear-law", options->shear_law,
                     "deembedded (the material's law, raised by the FB1 specimen's end effect: the default) or measured (the input curve as read)");
+    sub->add_option("--hysteresis", options->hysteresis,
+                    "friction (the default here: the mean line plus friction elements, full KES loops) or loading-branch (the loading "
+                    "branch as an elastic energy, the loading sweep only)");
     sub->add_option("--out", options->out, "Output directory (default out/kes-<name>)");
     sub->add_flag("--convergence", options->convergence,
                   "Also the cantilever's grid convergence: bending length vs the exact elastica at L/c = 1..3 and spacings S, S/2, S/4 "

@@ -62,6 +62,7 @@ struct KesTestOptions {
     std::optional<std::string> bending_form;
     std::optional<std::string> discretization;
     std::optional<std::string> shear_law;
+    std::optional<std::string> hysteresis;  ///< friction (default) or loading-branch
     std::optional<std::string> out;
     bool convergence = false;
     GivenFabric given_fabric;

@@ -10,7 +10,7 @@ namespace woven::kes {
 
 Curve synthesize_bending_curve(const BendingSummary& s)
 {
-    constexpr double kRise = 0.3;  // 1/cm: the initial-resistance region ends here
+    constexpr double kRise = kBendingRise;  // 1/cm: the initial-resistance region ends here
     constexpr int kPoints = 51;
     Curve c;
     for (int k = 0; k < kPoints; ++k) {
@@ -24,7 +24,7 @@ Curve synthesize_bending_curve(const BendingSummary& s)
 
 Curve synthesize_shear_curve(const ShearSummary& s)
 {
-    constexpr double kRise = 0.3;  // degrees
+    constexpr double kRise = kShearRise;  // degrees
     constexpr int kPoints = 33;
     const double half_width = 0.25 * (s.two_HG + s.two_HG5);  // mean of 2HG/2 and 2HG5/2
     Curve c;
@@ -35,6 +35,21 @@ Curve synthesize_shear_curve(const ShearSummary& s)
         c.y.push_back(s.G * phi + half_width * (1.0 - (1.0 - u) * (1.0 - u)));
     }
     return c;
+}
+
+FabricData without_hysteresis(const FabricData& fabric)
+{
+    FabricData f = fabric;
+    for (Measured<BendingSummary>* b : {&f.bending_warp, &f.bending_weft})
+        if (b->summary && b->summary->two_HB > 0) {
+            b->summary->two_HB = 0;
+            b->curve = synthesize_bending_curve(*b->summary);
+        }
+    if (f.shear.summary && (f.shear.summary->two_HG > 0 || f.shear.summary->two_HG5 > 0)) {
+        f.shear.summary->two_HG = f.shear.summary->two_HG5 = 0;
+        f.shear.curve = synthesize_shear_curve(*f.shear.summary);
+    }
+    return f;
 }
 
 FitOptions bending_fit_options()

@@ -61,6 +61,11 @@ inline constexpr double kShearMaxAngle = 8.0;  ///< degrees
 inline constexpr double kShearSlopeFrom = 0.5, kShearSlopeTo = 5.0;  ///< G window, degrees
 }  // namespace instrument
 
+/// Where the synthesised curves' initial-resistance region ends (their hysteresis has risen to
+/// its half width): 1/cm (bending), degrees (shear).
+inline constexpr double kBendingRise = 0.3;
+inline constexpr double kShearRise = 0.3;
+
 /// Synthesises a first-stage KES-FB2 loading curve from B and 2HB (documented rule,
 /// docs/FABRIC-FORMAT.md): M(K) = B K + (2HB/2) r(K/K1), r(u) = 1 - (1 - u)^2 for u < 1 and 1
 /// beyond, K1 = 0.3 1/cm, K = 0..2.5 1/cm. The loading branch lies half a hysteresis width
@@ -73,6 +78,11 @@ Curve synthesize_bending_curve(const BendingSummary& s);
 /// hysteresis width h = (2HG + 2HG5)/4 (the mean of the two measured half widths): the
 /// loading branch's KES slope over 0.5-5 degrees is G exactly.
 Curve synthesize_shear_curve(const ShearSummary& s);
+
+/// The fabric with the curves it gives by summary values replaced by their mean lines (2HB,
+/// 2HG, 2HG5 set to 0 and the curves synthesised again: M = B K, F = G phi); curves given as
+/// points are kept. The elastic part of the friction model (model::Hysteresis::FRICTION).
+FabricData without_hysteresis(const FabricData& fabric);
 
 /// Checks a fabric for plausibility and consistency; throws InputError naming `source` and the
 /// field (e.g. "bending.warp.B") with what is expected. Returns warnings (values outside the

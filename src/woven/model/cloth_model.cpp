@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 
 namespace woven::model {
@@ -41,9 +42,9 @@ std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& a
 }
 
 ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active,
-    const std::vector<double>& area_m2)
-    : grid_(grid), stencils_(make_stencils(grid, std::move(active), options.discretization)), discretization_(options.discretization),
-      shear_scale_(options.shear_scale)
+    const std::vector<double>& area_m2, const SlipLaws& slip)
+    : grid_(grid), stencils_(make_stencils(grid, std::move(active), options.discretization, slip.any())), discretization_(options.discretization),
+      shear_scale_(options.shear_scale), hysteresis_(options.hysteresis), slip_(slip)
 {
     assert(grid.nu > 0 && grid.nv > 0 && grid.sigma > 0);
     assert(options.shear_scale > 0 && std::isfinite(options.shear_scale));
@@ -66,6 +67,32 @@ ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const 
     warp_ = BendingEnergy(fabric.bending_warp, sigma, options.bending_form, options.gram_force);
     weft_ = BendingEnergy(fabric.bending_weft, sigma, options.bending_form, options.gram_force);
     trellis_ = TrellisEnergy(fabric.shear, sigma, options.gram_force, options.shear_scale);
+    // The friction elements' energies in J: as the elastic terms' (energy_functions.hpp), the
+    // shear ones times the shear law's factor.
+    const double sigma_cm = sigma * units::kMToCm;
+    const double J = sigma_cm * sigma_cm * units::joule_per_gram_force_cm(options.gram_force);
+    slip_.warp.scale = slip_.weft.scale = J;
+    slip_.shear.scale = J * options.shear_scale;
+    reset_slip();
+}
+
+void ClothModel::reset_slip()
+{
+    warp_state_.assign(slip_.warp.active() ? stencils_.warp_slip_bends.size() : 0, SlipState{});
+    weft_state_.assign(slip_.weft.active() ? stencils_.weft_slip_bends.size() : 0, SlipState{});
+    shear_state_.assign(slip_.shear.active() ? stencils_.crossings.size() : 0, SlipState{});
+}
+
+void ClothModel::update_slip(const Positions& x)
+{
+    assert(static_cast<int>(x.size()) == grid_.size());
+    auto update = [&](const auto& term, const SlipLaw& law, const auto& stencils, std::vector<SlipState>& states) {
+        constexpr int N = std::decay_t<decltype(term)>::kParticles;
+        for (std::size_t n = 0; n < states.size(); ++n) law.update(term.strain(gather<N>(x, stencils[n])), states[n]);
+    };
+    if (slip_.warp.active()) update(slip_bend_term(Term::BENDING_WARP), slip_.warp, stencils_.warp_slip_bends, warp_state_);
+    if (slip_.weft.active()) update(slip_bend_term(Term::BENDING_WEFT), slip_.weft, stencils_.weft_slip_bends, weft_state_);
+    if (slip_.shear.active()) update(slip_trellis_term(), slip_.shear, stencils_.crossings, shear_state_);
 }
 
 EnergyTerms ClothModel::evaluate(const Positions& x) const
@@ -146,7 +173,25 @@ ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, con
     ModelOptions o = options;
     if (o.discretization == Discretization::CONVERGENT && !(o.tensile_stiffness > 0) && fabric.tensile && fabric.tensile->EMT > 0)
         o.tensile_stiffness = tensile_stiffness_from_emt(fabric.tensile->EMT, o.gram_force);
-    return ClothModel(kes::fit_fabric(fabric), grid, o, std::move(active), area_m2);
+    if (o.hysteresis != Hysteresis::FRICTION) return ClothModel(kes::fit_fabric(fabric), grid, o, std::move(active), area_m2);
+    // FRICTION: the mean lines are the elastic energy, the half widths the friction's.
+    const SlipLaws slip = slip_laws(fabric);
+    return ClothModel(kes::fit_fabric(kes::without_hysteresis(fabric)), grid, o, std::move(active), area_m2, slip);
+}
+
+SlipLaws slip_laws(const kes::FabricData& fabric)
+{
+    SlipLaws laws;
+    constexpr double kAt = 1.0;  // 2HB is read at 1 1/cm
+    if (fabric.bending_warp.summary) laws.warp = make_slip_law(kAt, 0.5 * fabric.bending_warp.summary->two_HB, kAt, 0.5 * fabric.bending_warp.summary->two_HB, kes::kBendingRise);
+    if (fabric.bending_weft.summary) laws.weft = make_slip_law(kAt, 0.5 * fabric.bending_weft.summary->two_HB, kAt, 0.5 * fabric.bending_weft.summary->two_HB, kes::kBendingRise);
+    if (fabric.shear.summary) {
+        // q = sin(phi): 2HG at 0.5 degrees, 2HG5 at 5, the rise as the synthesised curve's.
+        const auto q = [](double deg) { return std::sin(deg * units::kDegToRad); };
+        laws.shear = make_slip_law(q(kes::instrument::kShearSlopeFrom), 0.5 * fabric.shear.summary->two_HG, q(kes::instrument::kShearSlopeTo),
+                                   0.5 * fabric.shear.summary->two_HG5, q(kes::kShearRise));
+    }
+    return laws;
 }
 
 Positions flat_grid(const Grid& grid, const Vec3& centre, double yaw)

@@ -24,6 +24,7 @@
 #include "woven/kes/fit.hpp"
 #include "woven/model/energy_functions.hpp"
 #include "woven/model/grid.hpp"
+#include "woven/model/slip.hpp"
 #include "woven/model/stencils.hpp"
 #include "woven/model/terms.hpp"
 
@@ -66,6 +67,13 @@ struct ModelOptions {
     ShearLaw shear_law = ShearLaw::DEEMBEDDED;
     /// The trellis law is the input shear curve times this factor (the model applies only this).
     double shear_scale = 1.0;
+    /// LOADING_BRANCH: each curve's loading branch is the elastic energy (the default). FRICTION:
+    /// for the curves given by summary values with a hysteresis width (2HB, 2HG, 2HG5 > 0), the
+    /// mean line (slope B, G) is the elastic energy and Jenkins friction elements carry the
+    /// hysteresis (slip.hpp); their state changes only through ClothModel::update_slip. The
+    /// shear elements are scaled by shear_scale with the elastic law. Curves given as points
+    /// keep their loading branch.
+    Hysteresis hysteresis = Hysteresis::LOADING_BRANCH;
 };
 
 /// The extension (%) at 500 gf/cm assumed when a fabric gives no KES tensile values: a typical
@@ -89,8 +97,10 @@ class ClothModel {
 public:
     /// `active`: one entry per grid particle (empty: all active), see stencils.hpp; `area_m2`:
     /// the area each particle stands for (empty: sigma^2), see particle_masses.
+    /// `slip`: the friction elements (slip.hpp, KES units), none by default (make_cloth_model
+    /// builds them for Hysteresis::FRICTION).
     ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {},
-        const std::vector<double>& area_m2 = {});
+        const std::vector<double>& area_m2 = {}, const SlipLaws& slip = {});
 
     /// The discretisation the model was built with.
     Discretization discretization() const { return discretization_; }
@@ -134,6 +144,28 @@ public:
     const BendingEnergy& bending_weft() const { return weft_; }
     const TrellisEnergy& trellis() const { return trellis_; }
 
+    /// The hysteresis mode the model was built with (ModelOptions::hysteresis).
+    Hysteresis hysteresis() const { return hysteresis_; }
+    /// Whether any friction elements are present (FRICTION with a hysteresis width given).
+    bool has_slip() const { return slip_.any(); }
+    /// The friction laws (scaled to J).
+    const SlipLaws& slip_laws() const { return slip_; }
+    /// After a converged step: each friction element's state by the return mapping at x.
+    void update_slip(const Positions& x);
+    /// Every friction element back to its virgin state (s = 0).
+    void reset_slip();
+    /// The states, one per stencil of stencils().warp_slip_bends, weft_slip_bends, crossings
+    /// (empty for a family without friction).
+    const std::vector<SlipState>& warp_slip() const { return warp_state_; }
+    const std::vector<SlipState>& weft_slip() const { return weft_state_; }
+    const std::vector<SlipState>& shear_slip() const { return shear_state_; }
+    SlipBendTerm slip_bend_term(Term warp_or_weft) const
+    {
+        const bool warp = warp_or_weft == Term::BENDING_WARP;
+        return SlipBendTerm(warp ? slip_.warp : slip_.weft, grid_.sigma * units::kMToCm, !warp);
+    }
+    SlipTrellisTerm slip_trellis_term() const { return SlipTrellisTerm(slip_.shear); }
+
     StretchTerm stretch_term() const { return StretchTerm(spacing_); }
     RepulsionTerm repulsion_term() const { return RepulsionTerm(spacing_); }
     BendingTerm bending_term(Term warp_or_weft) const { return BendingTerm(warp_or_weft == Term::BENDING_WARP ? warp_ : weft_); }
@@ -150,9 +182,19 @@ private:
     ThreadSpacing spacing_;
     BendingEnergy warp_, weft_;
     TrellisEnergy trellis_;
+    Hysteresis hysteresis_ = Hysteresis::LOADING_BRANCH;
+    SlipLaws slip_;
+    std::vector<SlipState> warp_state_, weft_state_, shear_state_;
 };
 
-/// Fits the fabric's curves (kes::fit_fabric, Sec. 5.1) and builds its model (Sec. 5.2-5.4).
+/// The friction laws of a fabric (slip.hpp, KES units): for each curve given by summary values,
+/// half width 2HB/2 (bending, at 1 1/cm), 2HG/2 at 0.5 and 2HG5/2 at 5 degrees (shear, q =
+/// sin(phi)), the virgin rise of the synthesised curves (kes::kBendingRise, kShearRise); curves
+/// given as points or without a width have none.
+SlipLaws slip_laws(const kes::FabricData& fabric);
+
+/// Fits the fabric's curves (kes::fit_fabric, Sec. 5.1) and builds its model (Sec. 5.2-5.4);
+/// with Hysteresis::FRICTION the mean lines (kes::without_hysteresis) and slip_laws.
 ClothModel make_cloth_model(const kes::FabricData& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active = {},
     const std::vector<double>& area_m2 = {});
 
@@ -169,10 +211,9 @@ inline constexpr std::ptrdiff_t kParallelStencils = 128;
 /// derivatives to the sink. The local terms of a batch of stencils are evaluated on oneTBB's
 /// threads; the sums and the sink see them in the stencils' order (a PartitionedSink in
 /// parts at once, each its own values), so the bits do not depend on the thread count.
-template <class T, class Sink>
-double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>>& stencils, const std::vector<double>& weights, const Positions& x, Derivatives what, Sink& sink)
+template <int N, class Eval, class Sink>
+double add_stencils(Term id, const Eval& eval, const std::vector<Stencil<N>>& stencils, const std::vector<double>& weights, const Positions& x, Derivatives what, Sink& sink)
 {
-    constexpr int N = T::kParticles;
     double sum = 0;
     std::vector<Local<N>> locals(std::min(kStencilBatch, stencils.size()));
     for (std::size_t begin = 0; begin < stencils.size(); begin += kStencilBatch) {
@@ -180,7 +221,7 @@ double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>
         const auto evaluate = [&](std::ptrdiff_t from, std::ptrdiff_t to) {
             for (std::ptrdiff_t k = from; k < to; ++k) {
                 const std::size_t n = begin + static_cast<std::size_t>(k);
-                locals[k] = term.evaluate(gather<N>(x, stencils[n]), what);
+                locals[k] = eval(n, gather<N>(x, stencils[n]), what);
                 if (!weights.empty() && weights[n] != 1.0) scale_local(locals[k], weights[n]);
             }
         };
@@ -209,6 +250,26 @@ double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>
     return sum;
 }
 
+/// Sums one term over its stencils, each times its weight (stencils.hpp), and sends the local
+/// derivatives to the sink. The local terms of a batch of stencils are evaluated on oneTBB's
+/// threads; the sums and the sink see them in the stencils' order (a PartitionedSink in
+/// parts at once, each its own values), so the bits do not depend on the thread count.
+template <class T, class Sink>
+double add_term(Term id, const T& term, const std::vector<Stencil<T::kParticles>>& stencils, const std::vector<double>& weights, const Positions& x, Derivatives what, Sink& sink)
+{
+    constexpr int N = T::kParticles;
+    return add_stencils<N>(id, [&](std::size_t, const VecN<3 * N>& xl, Derivatives w) { return term.evaluate(xl, w); }, stencils, weights, x, what, sink);
+}
+
+/// The same for a friction term, each stencil with its slip state.
+template <class T, class Sink>
+double add_slip_term(Term id, const T& term, const std::vector<SlipState>& states, const std::vector<Stencil<T::kParticles>>& stencils,
+    const std::vector<double>& weights, const Positions& x, Derivatives what, Sink& sink)
+{
+    constexpr int N = T::kParticles;
+    return add_stencils<N>(id, [&](std::size_t n, const VecN<3 * N>& xl, Derivatives w) { return term.evaluate(xl, states[n], w); }, stencils, weights, x, what, sink);
+}
+
 struct NoSink {
     template <int N> void add(Term, const Stencil<N>&, const Local<N>&, bool) { }
 };
@@ -231,6 +292,15 @@ EnergyTerms ClothModel::evaluate(const Positions& x, Derivatives what, Sink& sin
     e.bending_warp = detail::add_term(Term::BENDING_WARP, BendingTerm(warp_), stencils_.warp_bends, stencils_.warp_weights, x, what, sink);
     e.bending_weft = detail::add_term(Term::BENDING_WEFT, BendingTerm(weft_), stencils_.weft_bends, stencils_.weft_weights, x, what, sink);
     e.trellis = detail::add_term(Term::TRELLIS, trellis_term(), stencils_.crossings, stencils_.crossing_weights, x, what, sink);
+    // Friction inside the weave (slip.hpp), part of the bending and trellis terms.
+    if (slip_.warp.active())
+        e.bending_warp += detail::add_slip_term(Term::BENDING_WARP, slip_bend_term(Term::BENDING_WARP), warp_state_, stencils_.warp_slip_bends,
+                                                stencils_.warp_weights, x, what, sink);
+    if (slip_.weft.active())
+        e.bending_weft += detail::add_slip_term(Term::BENDING_WEFT, slip_bend_term(Term::BENDING_WEFT), weft_state_, stencils_.weft_slip_bends,
+                                                stencils_.weft_weights, x, what, sink);
+    if (slip_.shear.active())
+        e.trellis += detail::add_slip_term(Term::TRELLIS, slip_trellis_term(), shear_state_, stencils_.crossings, stencils_.crossing_weights, x, what, sink);
     return e;
 }
 

@@ -22,7 +22,7 @@ bool Stencils::coupled(int p, int q) const
     return std::binary_search(row.begin(), row.end(), q);
 }
 
-Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretization d)
+Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretization d, bool slip)
 {
     const int n = grid.size();
     if (active.empty()) active.assign(n, 1);
@@ -85,6 +85,14 @@ Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretizatio
         }
         s.edge_weights.push_back(w);
     }
+    if (slip) {
+        auto across = [&](const Stencil<3>& b, int di, int dj) -> Stencil<5> {
+            const int i = b[1] % grid.nu, j = b[1] / grid.nu;
+            return {b[0], b[1], b[2], on(i - di, j - dj) ? grid.index(i - di, j - dj) : b[1], on(i + di, j + dj) ? grid.index(i + di, j + dj) : b[1]};
+        };
+        for (const Stencil<3>& b : s.warp_bends) s.warp_slip_bends.push_back(across(b, 1, 0));
+        for (const Stencil<3>& b : s.weft_bends) s.weft_slip_bends.push_back(across(b, 0, 1));
+    }
     for (const Stencil<3>& b : s.warp_bends) s.warp_weights.push_back(weight(b[1] % grid.nu, b[1] / grid.nu));
     for (const Stencil<3>& b : s.weft_bends) s.weft_weights.push_back(weight(b[1] % grid.nu, b[1] / grid.nu));
 
@@ -94,6 +102,8 @@ Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretizatio
     add_couplings(s.warp_bends, rows);
     add_couplings(s.weft_bends, rows);
     add_couplings(s.crossings, rows);
+    add_couplings(s.warp_slip_bends, rows);
+    add_couplings(s.weft_slip_bends, rows);
     s.coupled_begin_.assign(n + 1, 0);
     for (int p = 0; p < n; ++p) {
         std::sort(rows[p].begin(), rows[p].end());

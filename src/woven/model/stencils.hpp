@@ -51,6 +51,11 @@ struct Stencils {
     std::vector<Stencil<3>> warp_bends;  ///< (i,j-1), (i,j), (i,j+1)
     std::vector<Stencil<3>> weft_bends;  ///< (i-1,j), (i,j), (i+1,j)
     std::vector<Stencil<4>> crossings;   ///< L, R, D, U around (i,j)
+    /// With slip (make_stencils' `slip`), one per warp (weft) bend, in its order: the bend's
+    /// three particles and the two across the thread at its middle, (i-1,j), (i+1,j) for a
+    /// warp bend, (i,j-1), (i,j+1) for a weft bend (a missing one replaced by the middle
+    /// particle; both missing: the middle twice, a bend without friction). slip.hpp.
+    std::vector<Stencil<5>> warp_slip_bends, weft_slip_bends;
     /// The share of cloth each stencil stands for (its term's weight), one per stencil of the
     /// list of the same name, and each particle's area in units of sigma^2: all 1 for PAPER
     /// (see Discretization).
@@ -72,7 +77,9 @@ struct Stencils {
 /// mask. PAPER: a term exists only where its whole stencil is active. CONVERGENT: the same
 /// edges and bends, and a crossing at every active particle with an active neighbour along
 /// each thread (one-sided where one is missing); weights as Discretization says.
-Stencils make_stencils(const Grid& grid, std::vector<char> active = {}, Discretization d = Discretization::PAPER);
+/// `slip`: also the five-particle bends of the friction elements (slip.hpp), coupled in the
+/// pattern.
+Stencils make_stencils(const Grid& grid, std::vector<char> active = {}, Discretization d = Discretization::PAPER, bool slip = false);
 
 /// For each particle, the stencils of one list that contain it and its place (role) in each.
 struct Incidence {

@@ -33,6 +33,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "woven/common/error.hpp"
 #include "woven/sim/solvers.hpp"
 
 namespace woven::sim::detail {
@@ -185,6 +186,10 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
     const PaperSolverOptions& po = options.paper;
     const auto start = std::chrono::steady_clock::now();
     const model::ClothModel& model = *problem.model;
+    // The paper's per-particle steps have no place for the friction elements' states (their
+    // update between converged steps): hysteresis as friction is the fast solver's.
+    if (model.hysteresis() == model::Hysteresis::FRICTION)
+        throw InputError("paper solver", "hysteresis", "expected loading-branch: the paper solver does not carry the friction elements (use --solver fast)");
     const geometry::ObstacleSet& obstacles = *problem.obstacles;
     const int n = model.grid().size();
     const double sigma = model.grid().sigma;

@@ -18,4 +18,13 @@ model::ClothModel instrument_model(const kes::FabricData& fabric, const model::G
 /// range (points with y_input > 0).
 void finish_kes_result(KesCurveResult& r, double input_summary, double lo, double hi);
 
+/// The legs of a loop run: `steps` per half amplitude, 0 -> +max -> -max -> 0.
+std::vector<double> loop_path(double max, int steps);
+
+/// Fills a loop's summaries (KesCurveResult's loop fields), r.loop_x/loop_y set, the input loop
+/// of `law` (half widths in the curve's x units) around the mean slope `slope`; `steps` per
+/// half amplitude; widths at `at` (and `at5` if > 0).
+void finish_loop(KesCurveResult& r, double slope, const model::SlipLaw& law, double rise, int steps, double lo, double hi, double at, double at5,
+                 double input_width, double input_width5);
+
 }  // namespace woven::testers

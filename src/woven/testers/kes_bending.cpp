@@ -39,7 +39,7 @@ KesCurveResult kes_bending_test(const kes::FabricData& fabric, Direction dir, co
     layout.sigma = options.gap / free_span;
     layout.n_across = std::max(2, static_cast<int>(std::lround(options.width / layout.sigma)) + 1);
     const double width = (layout.n_across - 1) * layout.sigma;
-    const model::ClothModel model = instrument_model(fabric, layout.grid(), options.model, /*gravity=*/false);
+    model::ClothModel model = instrument_model(fabric, layout.grid(), options.model, /*gravity=*/false);
     const double newton_per_gf = units::newton_per_gram_force(options.model.gram_force);
 
     std::vector<char> fixed(layout.grid().size(), 0);
@@ -61,12 +61,17 @@ KesCurveResult kes_bending_test(const kes::FabricData& fabric, Direction dir, co
     r.compare_to = std::min(options.max_curvature, input.x.back());
 
     const int steps = static_cast<int>(std::lround(options.max_curvature / options.step));
+    // FRICTION with a width given: the full loop, the friction state updated after each step.
+    const model::SlipLaw& law = dir == Direction::WARP ? model.slip_laws().warp : model.slip_laws().weft;
+    const bool loop = law.active();
+    const std::vector<double> path = loop_path(options.max_curvature, steps);
+    const std::size_t points = loop ? path.size() : static_cast<std::size_t>(steps + 1);
     Positions x(layout.grid().size());
     std::vector<Vec2> rows, drows;
-    for (int k = 0; k <= steps; ++k) {
-        const double K = k * options.max_curvature / steps;  // 1/cm
-        const double K_m = K * units::kMToCm;                // 1/m
-        const double psi = 2.0 * std::asin(std::min(1.0, 0.5 * K_m * layout.sigma));
+    for (std::size_t k = 0; k < points; ++k) {
+        const double K = path[k];               // 1/cm
+        const double K_m = K * units::kMToCm;   // 1/m
+        const double psi = 2.0 * std::asin(std::clamp(0.5 * K_m * layout.sigma, -1.0, 1.0));
         bent_rows(layout.n_along, layout.sigma, psi, rows, drows);
         for (int a = 0; a < layout.n_along; ++a)
             for (int b = 0; b < layout.n_across; ++b)
@@ -84,11 +89,23 @@ KesCurveResult kes_bending_test(const kes::FabricData& fabric, Direction dir, co
                 dE_dpsi += g[3 * p] * drows[a].x() + g[3 * p + 2] * drows[a].y();
             }
         const double dE_dalpha = dE_dpsi / (N - 1);
-        r.x.push_back(K);
-        r.y.push_back(dE_dalpha / width / newton_per_gf);  // N m / m = N -> gf (gf.cm/cm)
-        r.y_input.push_back(curve_value(input, K));
+        const double M = dE_dalpha / width / newton_per_gf;  // N m / m = N -> gf (gf.cm/cm)
+        if (loop) {
+            model.update_slip(eq.x);
+            r.loop_x.push_back(K);
+            r.loop_y.push_back(M);
+        }
+        if (k <= static_cast<std::size_t>(steps)) {
+            r.x.push_back(K);
+            r.y.push_back(M);
+            r.y_input.push_back(curve_value(input, K));
+        }
     }
     finish_kes_result(r, input_B(fabric, dir), kes::instrument::kBendingSlopeFrom, slope_to);
+    if (loop) {
+        const kes::BendingSummary& summary = *(dir == Direction::WARP ? fabric.bending_warp.summary : fabric.bending_weft.summary);
+        finish_loop(r, summary.B, law, kes::kBendingRise, steps, kes::instrument::kBendingSlopeFrom, slope_to, 1.0, 0.0, summary.two_HB, 0.0);
+    }
     return r;
 }
 

@@ -44,7 +44,33 @@ struct KesCurveResult {
     /// the input; empty / 0 for bending.
     std::vector<double> y_central;
     double central_summary = 0, central_rel_error = 0;
+
+    /// The full loop (model::Hysteresis::FRICTION with the curve's hysteresis width given):
+    /// 0 -> +max -> -max -> 0 at equilibrium at every step, the friction state updated between
+    /// steps (ClothModel::update_slip). x, y above are then its first leg; simulated_summary is
+    /// the mean of the four branch slopes over the KES window (both branches, both signs), as
+    /// KES reads B and G from a loop. Otherwise `loop` is false and the fields below are empty.
+    bool loop = false;
+    std::vector<double> loop_x, loop_y;  ///< every step of the loop, in order
+    std::vector<double> loop_y_input;    ///< the input loop (input_loop_value) at loop_x
+    /// Where the widths are read (x units): 1 1/cm (2HB); 0.5 and 5 degrees (2HG, 2HG5).
+    double hysteresis_at = 0, hysteresis5_at = 0;
+    /// The input's 2HB (2HG) and 2HG5 (0 for bending), and the simulated loop's widths there,
+    /// each the mean of the widths at +x and -x.
+    double input_hysteresis = 0, input_hysteresis5 = 0;
+    double simulated_hysteresis = 0, simulated_hysteresis5 = 0;
+    double hysteresis_rel_error = 0;  ///< the worse (larger |.|) of the widths' relative errors
+    /// max |y - y_input| over the loop / max |y_input| (the loop's amplitude: a loop crosses 0,
+    /// where a pointwise relative error has no meaning).
+    double loop_max_rel_error = 0;
 };
+
+/// The input loop of a curve given by summary values (docs/FABRIC-FORMAT.md): around the mean
+/// line S x, half width h(|x|) (2HB/2; for shear linear through 2HG/2 at 0.5 and 2HG5/2 at 5
+/// degrees), the virgin leg rising as h r(|x|/x1), r(u) = 1 - (1 - u)^2, x1 = kes::kBendingRise
+/// (kShearRise), a reversal from a saturated turning point x_r as Masing's rule has it,
+/// h (1 - 2 r(|x - x_r| / (2 x1))). `leg`: 0 the virgin leg, 1 down from +x_max, 2 up from -x_max.
+double input_loop_value(double slope, const model::SlipLaw& half_width, double rise, int leg, double x_max, double x);
 
 /// Settings of the FB2 test (SI unless stated).
 struct BendingTestOptions {

@@ -44,7 +44,7 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
     layout.n_along = std::max(2, static_cast<int>(std::lround(options.length / layout.sigma)) + 1);
     const double length = (layout.n_along - 1) * layout.sigma;
     const double area = length * N * layout.sigma;
-    const model::ClothModel model = instrument_model(fabric, layout.grid(), options.model, /*gravity=*/false);
+    model::ClothModel model = instrument_model(fabric, layout.grid(), options.model, /*gravity=*/false);
     const double newton_per_gf = units::newton_per_gram_force(options.model.gram_force);
     const double gf_per_cm = newton_per_gf * units::kMToCm;  // 1 gf/cm in N/m
 
@@ -98,7 +98,17 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
         sep = rest * (1 + e1);
     }
 
-    for (const double phi_deg : angles) {
+    // FRICTION with a width given (and the full sweep asked): the full loop, the friction
+    // state updated after each step from the virgin state.
+    const bool loop = model.slip_laws().shear.active() && options.angles.empty();
+    const int steps = static_cast<int>(angles.size()) - 1;
+    std::vector<double> path = angles;
+    if (loop) {
+        path = loop_path(angles.back(), steps);
+        model.reset_slip();
+    }
+    for (std::size_t k = 0; k < path.size(); ++k) {
+        const double phi_deg = path[k];
         const double phi = phi_deg * units::kDegToRad;
         place(sep, phi);
         const StaticResult eq = solve_static(model, x, fixed, solve);
@@ -118,12 +128,26 @@ KesCurveResult kes_shear_test(const kes::FabricData& fabric, Direction dir, cons
                 ++central;
             }
         }
-        r.x.push_back(phi_deg);
-        r.y.push_back(dE / (area * std::cos(phi)) / gf_per_cm);
-        r.y_central.push_back(dE_central / (central * layout.sigma * N * layout.sigma * std::cos(phi)) / gf_per_cm);
-        r.y_input.push_back(curve_value(fabric.shear.curve, phi_deg));
+        const double F = dE / (area * std::cos(phi)) / gf_per_cm;
+        if (loop) {
+            model.update_slip(eq.x);
+            r.loop_x.push_back(phi_deg);
+            r.loop_y.push_back(F);
+        }
+        if (k < angles.size()) {
+            r.x.push_back(phi_deg);
+            r.y.push_back(F);
+            r.y_central.push_back(dE_central / (central * layout.sigma * N * layout.sigma * std::cos(phi)) / gf_per_cm);
+            r.y_input.push_back(curve_value(fabric.shear.curve, phi_deg));
+        }
     }
     finish_kes_result(r, input_G(fabric), slope_from, slope_to);
+    if (loop) {
+        // The input half widths in degrees (the model's law is in q = sin(phi)).
+        const kes::ShearSummary& s = *fabric.shear.summary;
+        const model::SlipLaw law = model::make_slip_law(slope_from, 0.5 * s.two_HG, kes::instrument::kShearSlopeTo, 0.5 * s.two_HG5, kes::kShearRise);
+        finish_loop(r, s.G, law, kes::kShearRise, steps, slope_from, slope_to, slope_from, kes::instrument::kShearSlopeTo, s.two_HG, s.two_HG5);
+    }
     r.central_summary = window_slope(r.x, r.y_central, slope_from, slope_to);
     r.central_rel_error = (r.central_summary - r.input_summary) / r.input_summary;
     return r;
@@ -136,6 +160,13 @@ double shear_deembedding(const kes::FabricData& fabric, const model::ModelOption
     ShearTestOptions o;
     o.sigma = sigma;
     o.model = model;
+    // FRICTION: the elastic part is the mean line; it is de-embedded, and the friction
+    // elements are scaled with it (model::ModelOptions::hysteresis).
+    if (model.hysteresis == model::Hysteresis::FRICTION) {
+        o.model.hysteresis = model::Hysteresis::LOADING_BRANCH;
+        const kes::FabricData mean = kes::without_hysteresis(fabric);
+        return shear_deembedding(mean, o.model, sigma, tolerance);
+    }
     o.angles = {kes::instrument::kShearSlopeFrom, window_end};  // the G window's ends
     double scale = 1.0;
     for (int it = 0; it < 8; ++it) {
