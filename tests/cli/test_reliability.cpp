@@ -20,7 +20,7 @@
 
 #include "woven/io/sha256.hpp"
 
-#include "cli_support.hpp"
+#include "process_support.hpp"
 
 namespace fs = std::filesystem;
 
@@ -32,16 +32,9 @@ using woven::test::slurp;
 using woven::test::write;
 
 using woven::test::kTinyScene;
+using woven::test::documented_form;
 using woven::test::one_line;
 using woven::test::replace;
-
-/// The documented form of an error: "woven: error: <source>: <field>: <what is expected>",
-/// where <source> may carry ":<line>[:<column>]".
-bool documented_form(const std::string& err)
-{
-    static const std::regex form(R"(woven: error: [^:\n]+(:[0-9]+){0,2}: [^\n:]+: [^\n]+\n)");
-    return std::regex_match(err, form);
-}
 
 const std::string kFabric = R"(name = "probe"
 source = "test"
@@ -58,66 +51,7 @@ G = 0.5
 2HG5 = 1.0
 )";
 
-class Reliability : public woven::test::WovenProcessTest {
-protected:
-    /// Starts woven with `args` (stdout to /dev/null, stderr to err.txt); returns its pid.
-    pid_t spawn(const std::vector<std::string>& args)
-    {
-        const fs::path err = dir_ / "err.txt";
-        const pid_t pid = ::fork();
-        if (pid == 0) {
-            if (::chdir(dir_.c_str()) != 0) ::_exit(99);
-            if (!std::freopen(err.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) ::_exit(99);
-            std::vector<char*> argv{const_cast<char*>(WOVEN_BINARY)};
-            for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-            argv.push_back(nullptr);
-            ::execv(WOVEN_BINARY, argv.data());
-            ::_exit(98);
-        }
-        return pid;
-    }
-
-    /// Waits until err.txt contains `text` (true) or the process exits (false).
-    bool wait_for(pid_t pid, const std::string& text, int& status, bool& exited)
-    {
-        exited = false;
-        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(300);
-        while (std::chrono::steady_clock::now() < deadline) {
-            if (::waitpid(pid, &status, WNOHANG) == pid) {
-                exited = true;
-                return false;
-            }
-            if (slurp(dir_ / "err.txt").find(text) != std::string::npos) return true;
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        }
-        return false;
-    }
-
-    /// The set in `sub` is complete: report.json exists and every file it names (and only
-    /// those, besides itself) is there with its checksum.
-    ::testing::AssertionResult complete_set(const std::string& sub)
-    {
-        const fs::path d = dir_ / sub;
-        if (!fs::exists(d / "report.json")) return ::testing::AssertionFailure() << "no report.json";
-        const auto j = nlohmann::json::parse(slurp(d / "report.json"));
-        std::size_t named = 0;
-        for (const auto& [name, f] : j.at("files").items()) {
-            ++named;
-            if (!fs::exists(d / name)) return ::testing::AssertionFailure() << name << " missing";
-            if (woven::io::sha256_hex(slurp(d / name)) != f.at("sha256").get<std::string>())
-                return ::testing::AssertionFailure() << name << " is not the file the report names";
-        }
-        std::size_t present = 0;
-        for (const auto& e : fs::directory_iterator(d)) {
-            const std::string n = e.path().filename().string();
-            if (n.rfind(".woven-tmp.", 0) == 0) return ::testing::AssertionFailure() << "temporary " << n << " left";
-            ++present;
-        }
-        if (present != named + 1) return ::testing::AssertionFailure() << present << " files, report names " << named;
-        return ::testing::AssertionSuccess();
-    }
-
-};
+class Reliability : public woven::test::SpawningProcessTest {};
 
 nlohmann::json report(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
 
