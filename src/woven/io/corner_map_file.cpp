@@ -104,6 +104,8 @@ CornerMap parse_corner_map(std::string_view text, const std::string& source)
     } catch (const json::parse_error& e) {
         rd.fail("json", "expected the corner_map.json an earlier `woven experiment map` wrote (not JSON: syntax error at byte " +
                             std::to_string(e.byte) + ")");
+    } catch (const json::exception& e) {  // out_of_range: a number beyond double's range (1e3085)
+        rd.fail("json", std::string("expected the corner_map.json an earlier `woven experiment map` wrote (") + e.what() + ")");
     }
     rd.object(root, "json");
     CornerMap map;
