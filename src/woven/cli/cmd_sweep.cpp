@@ -42,6 +42,7 @@
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/resources.hpp"
+#include "woven/cli/progress.hpp"
 #include "woven/cli/sweep.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
@@ -71,16 +72,6 @@ extern "C" void on_sweep_signal(int sig)
 {
     int none = 0;
     g_sweep_signal.compare_exchange_strong(none, sig);
-}
-
-void install_sweep_signals()
-{
-    struct sigaction sa {};
-    sa.sa_handler = on_sweep_signal;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESTART;
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
 }
 
 std::string host_name()
@@ -789,7 +780,7 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
     const std::vector<io::SweepPoint> points = plan.points();
     validate_sweep_overrides(plan, points);
     make_output_dir(out);
-    install_sweep_signals();
+    install_signal_handlers(on_sweep_signal);
     res.points = points.size();
     std::vector<const io::SweepPoint*> todo;
     for (const auto& p : points) {

@@ -34,15 +34,17 @@ extern "C" void on_signal(int sig)
 
 }  // namespace
 
-void install_interrupt_handler()
+void install_signal_handlers(void (*handler)(int))
 {
     struct sigaction sa {};
-    sa.sa_handler = on_signal;
+    sa.sa_handler = handler;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESTART;
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
 }
+
+void install_interrupt_handler() { install_signal_handlers(on_signal); }
 
 bool interrupt_requested()
 {

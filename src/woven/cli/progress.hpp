@@ -10,6 +10,8 @@
 
 namespace woven::cli {
 
+/// Installs `handler` for SIGINT and SIGTERM (system calls restarted).
+void install_signal_handlers(void (*handler)(int));
 /// Installs the SIGINT and SIGTERM handlers (idempotent).
 void install_interrupt_handler();
 /// True once SIGINT or SIGTERM was received.
