@@ -43,9 +43,6 @@ struct Findings {
     void problem(const std::string& line) { problems.push_back(line); }
 };
 
-/// The manifests of the commands' output sets, in the order they are looked for.
-const char* const kManifests[] = {"report.json", "cusick.json", "kes-report.json"};
-
 std::optional<std::string> read_text(const fs::path& p)
 {
     std::ifstream in(p, std::ios::binary);

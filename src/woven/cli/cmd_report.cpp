@@ -57,7 +57,7 @@ struct PointView {
     std::string problem;
 };
 
-std::string read_text(const fs::path& p)
+std::string read_text_or_empty(const fs::path& p)
 {
     std::ifstream in(p, std::ios::binary);
     std::ostringstream s;
@@ -68,13 +68,11 @@ std::string read_text(const fs::path& p)
 nlohmann::json read_json(const fs::path& p, const std::string& what)
 {
     try {
-        return nlohmann::json::parse(read_text(p));
+        return nlohmann::json::parse(read_text_or_empty(p));
     } catch (const nlohmann::json::exception& e) {
         throw InputError(p.string(), "json", std::string("does not parse as ") + what + " (" + e.what() + ")");
     }
 }
-
-const char* const kManifests[] = {"report.json", "cusick.json", "kes-report.json"};
 
 std::string manifest_name(const fs::path& dir)
 {
@@ -221,7 +219,7 @@ std::string kes_curves(const PointView& p)
         if (e.path().extension() == ".csv") csvs.push_back(e.path());
     std::sort(csvs.begin(), csvs.end());
     for (const auto& c : csvs) {
-        std::istringstream in(read_text(c));
+        std::istringstream in(read_text_or_empty(c));
         std::string line;
         if (!std::getline(in, line)) continue;
         std::vector<std::string> head;
@@ -269,7 +267,7 @@ std::string gallery(const std::vector<PointView>& points)
         for (const auto& n : pngs) {
             if (!n.ends_with(".png")) continue;
             o << "<figure><img alt=\"" << render::html_escape(p.name + " " + n) << "\" src=\"data:image/png;base64,"
-              << render::base64(read_text(p.dir / n)) << "\"><figcaption>" << render::html_escape(p.name + ": " + n) << "</figcaption></figure>";
+              << render::base64(read_text_or_empty(p.dir / n)) << "\"><figcaption>" << render::html_escape(p.name + ": " + n) << "</figcaption></figure>";
         }
     }
     o << "</div>";
@@ -445,8 +443,8 @@ int run_report(const ReportOptions& o)
     if (!meshes.empty()) {
         const fs::path lib(WOVEN_THREE_JS_DIR);
         if (fs::exists(lib / "three.min.js") && fs::exists(lib / "examples/js/controls/OrbitControls.js")) {
-            three = read_text(lib / "three.min.js");
-            orbit = read_text(lib / "examples/js/controls/OrbitControls.js");
+            three = read_text_or_empty(lib / "three.min.js");
+            orbit = read_text_or_empty(lib / "examples/js/controls/OrbitControls.js");
         } else {
             print_warnings({std::string(WOVEN_THREE_JS_DIR) + ": three.min.js not found (Debian package libjs-three); the page has no 3-D view"});
         }

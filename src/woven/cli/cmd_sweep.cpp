@@ -84,7 +84,7 @@ std::string host_name()
     return s;
 }
 
-std::optional<std::string> read_text(const fs::path& p)
+std::optional<std::string> read_optional_text(const fs::path& p)
 {
     std::ifstream in(p, std::ios::binary);
     if (!in) return std::nullopt;
@@ -131,7 +131,7 @@ const char* const kManifestNames[] = {"report.json", "cusick.json", "kes-report.
 
 std::optional<nlohmann::json> read_json(const fs::path& p)
 {
-    const auto t = read_text(p);
+    const auto t = read_optional_text(p);
     if (!t) return std::nullopt;
     try {
         return nlohmann::json::parse(*t);
@@ -301,7 +301,7 @@ struct Running {
 /// The last `lines` lines of a file (a failed point's log).
 std::string tail_lines(const fs::path& p, int lines)
 {
-    const auto t = read_text(p);
+    const auto t = read_optional_text(p);
     if (!t) return {};
     std::size_t at = t->size();
     for (int k = 0; k <= lines && at > 0; ++k) {

@@ -131,6 +131,8 @@ int run_kes_test(const KesTestOptions& options);   // cmd_kes_test.cpp
 int run_cusick(const CusickCommandOptions& options);  // cmd_cusick.cpp
 int run_check(const CheckOptions& options);
 
+/// The manifests of the commands' output sets, in the order they are looked for (check, report).
+inline constexpr const char* kManifests[] = {"report.json", "cusick.json", "kes-report.json"};
 /// `woven check DIR` for one output folder: the problems found, one line each (none: a complete
 /// set, its manifest's files there with their sizes and SHA-256); `what` gets the ok line's text.
 std::vector<std::string> check_output_folder(const std::string& dir, std::string* what = nullptr);

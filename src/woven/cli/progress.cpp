@@ -5,7 +5,6 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <string>
 
 #include <unistd.h>
 
@@ -99,8 +98,11 @@ void Progress::show(const char* line)
     if (tty_) {
         const int width = 20;
         const int filled = static_cast<int>(std::lround(last_fraction_ * width));
-        const std::string bar = "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] ";
-        std::fprintf(stderr, "\r%s%s\033[K", bar.c_str(), line);
+        char bar[width + 1];
+        std::fill(bar, bar + filled, '#');
+        std::fill(bar + filled, bar + width, '.');
+        bar[width] = '\0';
+        std::fprintf(stderr, "\r[%s] %s\033[K", bar, line);
         drawn_ = true;
     } else {
         std::fprintf(stderr, "%s\n", line);
@@ -113,11 +115,14 @@ bool Progress::operator()(const sim::StepInfo& info)
     last_fraction_ = fraction(info.max_residual_rel);
     if (due()) {
         const double wall = std::chrono::duration<double>(last_ - start_).count();
+        // "/N" when there is a step limit, formatted here: ("/" + std::to_string(N)).c_str() made
+        // GCC 12 warn falsely (-Wrestrict, in the inlined std::string concatenation).
+        char limit[16] = "";
+        if (max_steps_ > 0) std::snprintf(limit, sizeof limit, "/%d", max_steps_);
         char line[256];
         std::snprintf(line, sizeof line,
                       "step %d%s  t %.3f s  E %.6g J  residual %.3g m g (tolerance %.3g)  move %.3g m  wall %.1f s",
-                      info.step, max_steps_ > 0 ? ("/" + std::to_string(max_steps_)).c_str() : "", info.time,
-                      info.energy, info.max_residual_rel, tolerance_, info.max_move, wall);
+                      info.step, limit, info.time, info.energy, info.max_residual_rel, tolerance_, info.max_move, wall);
         show(line);
     }
     return !interrupt_requested();

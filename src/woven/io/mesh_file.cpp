@@ -30,7 +30,13 @@ std::vector<std::string_view> tokens(std::string_view line)
     return t;
 }
 
-std::string shown(std::string_view s) { return "'" + printable(s, 40) + "'"; }
+std::string shown(std::string_view s)
+{
+    std::string t = "'";  // appended: "'" + std::string made GCC 12 warn falsely (-Wrestrict)
+    t += printable(s, 40);
+    t += '\'';
+    return t;
+}
 
 }  // namespace
 

@@ -27,8 +27,6 @@ const Range kClothSize{1e-3, 100, false, "m"};
 const Range kAngle{-360, 360, false, "deg"};
 const Range kCameraCoordinate{-1e4, 1e4, false, "m"};
 
-std::string vec_str(const Vec3& v) { return "(" + num_str(v.x()) + ", " + num_str(v.y()) + ", " + num_str(v.z()) + ")"; }
-
 void check_grid_size(long long nu, long long nv, const std::string& source, const std::string& field)
 {
     if (nu < 3 || nv < 3)

@@ -29,13 +29,11 @@ std::optional<std::string_view> embedded_file(const std::string& path)
 namespace {
 
 // Plausible bounds of an obstacle's numbers (docs/SCENE-FORMAT.md "Bounds").
-const Range kCoordinate{-kMaxCoordinate_m, kMaxCoordinate_m, false, "m"};  ///< positions
-const Range kLength{kMinLength_m, kMaxLength_m, false, "m"};              ///< sizes, radii, thicknesses
-const Range kAngle{-360, 360, false, "deg"};
+const Range kObstacleCoordinate{-kMaxCoordinate_m, kMaxCoordinate_m, false, "m"};  ///< positions
+const Range kLength{kMinLength_m, kMaxLength_m, false, "m"};                      ///< sizes, radii, thicknesses
+const Range kObstacleAngle{-360, 360, false, "deg"};
 const Range kDirection{-1e6, 1e6, false, ""};  ///< normals and axes (normalised by the obstacle)
 const Range kMeshScale{1e-6, 1e6, false, ""};
-
-std::string vec_str(const Vec3& v) { return "(" + num_str(v.x()) + ", " + num_str(v.y()) + ", " + num_str(v.z()) + ")"; }
 
 /// The embedded asset a mesh path in a scene may stand for: the path itself, the path relative
 /// to the scene's folder, or its tail from the last "assets/" component.
@@ -79,7 +77,7 @@ using ObstaclePtr = std::unique_ptr<geometry::Obstacle>;
 
 ObstaclePtr build_plane(const TomlTable& t, const ObstacleContext&)
 {
-    const Vec3 point = t.vec<3>("point_m", kCoordinate, Vec3(0, 0, 0));
+    const Vec3 point = t.vec<3>("point_m", kObstacleCoordinate, Vec3(0, 0, 0));
     const Vec3 normal = direction(t, "normal", Vec3(0, 0, 1));
     const double size = t.number("render_size_m", Range{kMinLength_m, 1e4, false, "m"}, 6.0);
     return build(t, [&] { return std::make_unique<geometry::Plane>(point, normal, size); });
@@ -87,22 +85,22 @@ ObstaclePtr build_plane(const TomlTable& t, const ObstacleContext&)
 
 ObstaclePtr build_box(const TomlTable& t, const ObstacleContext&)
 {
-    const Vec3 centre = t.vec<3>("centre_m", kCoordinate, std::nullopt);
+    const Vec3 centre = t.vec<3>("centre_m", kObstacleCoordinate, std::nullopt);
     const Vec3 size = t.vec<3>("size_m", kLength, std::nullopt);
-    const double yaw = t.number("rotation_deg", kAngle, 0.0) * units::kDegToRad;
+    const double yaw = t.number("rotation_deg", kObstacleAngle, 0.0) * units::kDegToRad;
     return build(t, [&] { return std::make_unique<geometry::Box>(centre, 0.5 * size, yaw); });
 }
 
 ObstaclePtr build_sphere(const TomlTable& t, const ObstacleContext&)
 {
-    const Vec3 centre = t.vec<3>("centre_m", kCoordinate, std::nullopt);
+    const Vec3 centre = t.vec<3>("centre_m", kObstacleCoordinate, std::nullopt);
     const double radius = t.number("radius_m", kLength, std::nullopt);
     return build(t, [&] { return std::make_unique<geometry::Sphere>(centre, radius); });
 }
 
 ObstaclePtr build_cylinder(const TomlTable& t, const ObstacleContext&)
 {
-    const Vec3 base = t.vec<3>("base_m", kCoordinate, std::nullopt);
+    const Vec3 base = t.vec<3>("base_m", kObstacleCoordinate, std::nullopt);
     const double radius = t.number("radius_m", kLength, std::nullopt);
     const double height = t.number("height_m", kLength, std::nullopt);
     const Vec3 axis = direction(t, "axis", Vec3(0, 0, 1));
@@ -111,7 +109,7 @@ ObstaclePtr build_cylinder(const TomlTable& t, const ObstacleContext&)
 
 ObstaclePtr build_disc(const TomlTable& t, const ObstacleContext&)
 {
-    const Vec3 top = t.vec<3>("centre_m", kCoordinate, std::nullopt);
+    const Vec3 top = t.vec<3>("centre_m", kObstacleCoordinate, std::nullopt);
     const double radius = t.number("radius_m", kLength, std::nullopt);
     const double thickness = t.number("thickness_m", kLength, 0.003);
     return build(t, [&] {
@@ -123,8 +121,8 @@ ObstaclePtr build_mesh(const TomlTable& t, const ObstacleContext& ctx)
 {
     const std::string file = t.string("file", std::nullopt);
     const double scale = t.number("scale", kMeshScale, 1.0);
-    const Vec3 rotation = t.vec<3>("rotation_deg", kAngle, Vec3(0, 0, 0));
-    const Vec3 translate = t.vec<3>("translate_m", kCoordinate, Vec3(0, 0, 0));
+    const Vec3 rotation = t.vec<3>("rotation_deg", kObstacleAngle, Vec3(0, 0, 0));
+    const Vec3 translate = t.vec<3>("translate_m", kObstacleCoordinate, Vec3(0, 0, 0));
     const fs::path path = fs::path(file).is_absolute() || ctx.base_dir.empty() ? fs::path(file) : fs::path(ctx.base_dir) / file;
     geometry::TriangleMesh mesh;
     std::error_code ec;
@@ -149,7 +147,7 @@ ObstaclePtr build_mesh(const TomlTable& t, const ObstacleContext& ctx)
     const double extent = (box.hi - box.lo).maxCoeff();
     if (!(reach <= kMaxCoordinate_m) || !(extent >= kMinLength_m))
         t.fail_self("the scaled, rotated and translated mesh spans " + vec_str(box.lo) + " .. " + vec_str(box.hi) +
-                    " m; expected it within " + kCoordinate.str() + " and at least " + num_str(kMinLength_m) +
+                    " m; expected it within " + kObstacleCoordinate.str() + " and at least " + num_str(kMinLength_m) +
                     " m across (check scale and translate_m)");
     return build(t, [&] { return std::make_unique<geometry::MeshObstacle>(std::move(mesh)); });
 }

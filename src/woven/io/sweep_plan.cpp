@@ -233,7 +233,7 @@ SweepAxis read_axis(const TomlTable& axes, const std::string& key, const std::st
         const bool integer = spec && spec->kind == Kind::INTEGER;
         if (!(integer || (spec && spec->kind == Kind::NUMBER) || is_override(key, command)))
             axes.fail(key, "expected an array of values ({from, to, step} is for number keys)" + TomlReader::at(*n));
-        const Range any{-1e300, 1e300};
+        const Range any{-1e300, 1e300, false, ""};
         const double from = t->number("from", any, std::nullopt);
         const double to = t->number("to", any, std::nullopt);
         const double step = t->number("step", Range{0, 1e300, true, ""}, 1.0);

@@ -70,6 +70,18 @@ std::string num_str(double v)
     return buf;
 }
 
+std::string vec_str(const Eigen::Vector3d& v)
+{
+    std::string s = "(";  // appended, as in Range::str
+    s += num_str(v.x());
+    s += ", ";
+    s += num_str(v.y());
+    s += ", ";
+    s += num_str(v.z());
+    s += ")";
+    return s;
+}
+
 std::string Range::kind() const
 {
     if (lo > 0 || (lo == 0 && lo_open)) return "a positive number";
@@ -79,8 +91,16 @@ std::string Range::kind() const
 
 std::string Range::str() const
 {
-    std::string s = (lo_open ? "(" : "[") + num_str(lo) + ", " + num_str(hi) + "]";
-    return unit.empty() ? s : s + " " + unit;
+    std::string s = lo_open ? "(" : "[";  // appended: "(" + std::string made GCC 12 warn falsely (-Wrestrict)
+    s += num_str(lo);
+    s += ", ";
+    s += num_str(hi);
+    s += "]";
+    if (!unit.empty()) {
+        s += ' ';
+        s += unit;
+    }
+    return s;
 }
 
 void check_toml_limits(std::string_view text, const std::string& source)

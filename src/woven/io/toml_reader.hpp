@@ -50,6 +50,8 @@ std::string printable(std::string_view text, std::size_t max_length = 80);
 
 /// Shortest round-trip text of a number ("1e+300", "0.5").
 std::string num_str(double v);
+/// "(x, y, z)" of num_str's texts (messages about a point or a vector of an input file).
+std::string vec_str(const Eigen::Vector3d& v);
 
 /// A TOML document of a tree of values (values.cpp): objects become tables, arrays arrays,
 /// strings, integers, floats and booleans themselves. InputError "<source>: <field>: ..." for a

@@ -196,10 +196,6 @@ template MatN<6> psd_projection<6>(const MatN<6>&);
 template MatN<12> psd_projection<12>(const MatN<12>&);
 template MatN<15> psd_projection<15>(const MatN<15>&);
 
-namespace {
-bool wants_hessian(Derivatives what) { return what == Derivatives::HESSIAN || what == Derivatives::PROJECTED; }
-}  // namespace
-
 // ---------------------------------------------------------------------------------------------
 // The terms
 

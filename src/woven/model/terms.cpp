@@ -21,8 +21,6 @@ const char* term_name(Term term)
 
 namespace {
 
-bool wants_hessian(Derivatives what) { return what == Derivatives::HESSIAN || what == Derivatives::PROJECTED; }
-
 Local<2> vanishing_pair()
 {
     Local<2> l;

@@ -25,6 +25,9 @@ enum class Derivatives {
     PROJECTED,  ///< + a positive semi-definite Hessian (per term below)
 };
 
+/// True when a Hessian (exact or projected) is asked for.
+inline bool wants_hessian(Derivatives what) { return what == Derivatives::HESSIAN || what == Derivatives::PROJECTED; }
+
 /// The terms of Eq. (1); EnergyTerms has one field per term.
 enum class Term { GRAVITY, STRETCH, REPULSION, BENDING_WARP, BENDING_WEFT, TRELLIS };
 inline constexpr Term kAllTerms[] = {Term::GRAVITY, Term::STRETCH, Term::REPULSION, Term::BENDING_WARP, Term::BENDING_WEFT, Term::TRELLIS};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "woven/common/error.hpp"
 
@@ -9,7 +10,6 @@ namespace woven::render {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kSideElevationDeg = 12;    // front and side views
 constexpr double kCornerElevationDeg = 20;  // the corner view
 const Vec3 kObstacleColor(0.42, 0.42, 0.42);
@@ -24,7 +24,7 @@ std::array<double, 4> catmull_rom(double t)
 
 Vec3 direction(double azimuth_deg, double elevation_deg)
 {
-    const double a = azimuth_deg * kPi / 180, e = elevation_deg * kPi / 180;
+    const double a = azimuth_deg * std::numbers::pi / 180, e = elevation_deg * std::numbers::pi / 180;
     return Vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <numeric>
 #include <string>
 
@@ -19,7 +20,6 @@ namespace woven::render {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kCreaseDeg = 40;        // solids: faces meeting sharper than this keep a crease
 constexpr double kFloorFadeStart = 1.6;  // floor fades into the background from this many subject radii...
 constexpr double kFloorFadeEnd = 4.0;    // ... to this many
@@ -95,7 +95,7 @@ Prepared prepare(const RenderMesh& rm, std::size_t index)
             for (std::size_t j = 0; j < p.faces.size(); ++j)
                 for (int k = 0; k < 3; ++k) adjacent[fill[F[p.faces[j]][k]]++] = static_cast<int>(j);
         }
-        const double crease_cos = rm.surface == Surface::CLOTH ? -2.0 : std::cos(kCreaseDeg * kPi / 180.0);
+        const double crease_cos = rm.surface == Surface::CLOTH ? -2.0 : std::cos(kCreaseDeg * std::numbers::pi / 180.0);
         for (std::size_t j = 0; j < p.faces.size(); ++j) {
             const Vec3& fn = p.face_normals[j];
             for (int k = 0; k < 3; ++k) {
@@ -282,9 +282,9 @@ Camera frame_box(const Vec3& lo, const Vec3& hi, double azimuth_deg, double elev
         radius = 1;
     }
     if (radius <= 0) radius = 1;
-    const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
+    const double az = azimuth_deg * std::numbers::pi / 180.0, el = elevation_deg * std::numbers::pi / 180.0;
     const Vec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-    const double half_fov = 0.5 * cam.fov_deg * kPi / 180.0;
+    const double half_fov = 0.5 * cam.fov_deg * std::numbers::pi / 180.0;
     const double limit = 0.9 * std::tan(half_fov);  // keep the box within 90 % of the half height
     // Grow from the bounding-sphere distance until the box fits, then bisect for the closest
     // distance at which the eight corners fit both vertically and horizontally.
@@ -332,7 +332,7 @@ Camera fit_camera(const std::vector<Vec3>& points, const Vec3& forward_in, const
         cam.eye = -f;
         return cam;
     }
-    const double ty = fill * std::tan(0.5 * fov_deg * kPi / 180.0), tx = ty * aspect;
+    const double ty = fill * std::tan(0.5 * fov_deg * std::numbers::pi / 180.0), tx = ty * aspect;
     // With the eye at a r + b u + e f, a point is inside when |x - a| <= tx (z - e) (and the
     // same vertically): the farthest-forward eye is e = min_p (z - |x - a| / tx), a concave
     // function of a; a ternary search finds its best a (and b for the vertical).
@@ -384,14 +384,14 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
     const Vec3 light = options.light_dir.normalized();
     Vec3 light_t, light_b;
     frame_around(light, light_t, light_b);
-    const double cos_light = std::cos(options.light_radius_deg * kPi / 180.0);
+    const double cos_light = std::cos(options.light_radius_deg * std::numbers::pi / 180.0);
 
     // Camera basis.
     const Vec3 forward = forward_raw.normalized();
     Vec3 right = forward.cross(camera.up);
     right = right.norm() > 1e-9 * std::max(1.0, camera.up.norm()) ? Vec3(right.normalized()) : any_perpendicular(forward);
     const Vec3 up = right.cross(forward);
-    const double tan_half = std::tan(0.5 * camera.fov_deg * kPi / 180.0);
+    const double tan_half = std::tan(0.5 * camera.fov_deg * std::numbers::pi / 180.0);
     const double aspect = static_cast<double>(W) / H;
     const double pixel_angle = 2 * tan_half / H;  // world size of a pixel at unit distance
 
@@ -578,7 +578,7 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
         double key = 0;
         if (ns.dot(light) > 0 && ng.dot(light) > -0.2) {
             const double ct = 1 - r0 * (1 - cos_light), st = std::sqrt(std::max(0.0, 1 - ct * ct));
-            const double ph = 2 * kPi * r1;
+            const double ph = 2 * std::numbers::pi * r1;
             const Vec3 l = (ct * light + st * (std::cos(ph) * light_t + std::sin(ph) * light_b)).normalized();
             key = std::max(0.0, ns.dot(l));
             if (key > 0 && options.shadows && (ng.dot(l) <= 0 || blocked(l, inf))) key = 0;
@@ -588,7 +588,7 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
         if (options.ambient_occlusion) {
             Vec3 tt, bb;
             frame_around(ns, tt, bb);
-            const double rr = std::sqrt(r2), ph = 2 * kPi * r3;
+            const double rr = std::sqrt(r2), ph = 2 * std::numbers::pi * r3;
             Vec3 d = rr * std::cos(ph) * tt + rr * std::sin(ph) * bb + std::sqrt(std::max(0.0, 1 - r2)) * ns;
             if (d.dot(ng) <= 1e-3) d = (d - (d.dot(ng) - 1e-3) * ng).normalized();
             if (blocked(d, ao_distance)) sky = 0;
