@@ -100,6 +100,21 @@ TEST_F(HysteresisCli, CusickRecordsHysteresisAndProtocol)
     const double dc = b["drape_coefficient_percent"].get<double>();
     EXPECT_GT(dc, 0.0);
     EXPECT_LT(dc, 100.0);
+    EXPECT_EQ(a["shakes"], 0);
+    EXPECT_EQ(b["shakes"], 0);
+    EXPECT_FALSE(b.contains("shake_amplitude_g"));
+    // One quasi-static shake after the release: to rest at 1.5 g, at 0.5 g, then at g.
+    r = woven(small + " --hysteresis friction --shakes 1 --out c");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto c = nlohmann::json::parse(slurp(dir_ / "c" / "cusick.json"));
+    EXPECT_EQ(c["protocol"], "release");
+    EXPECT_EQ(c["shakes"], 1);
+    EXPECT_DOUBLE_EQ(c["shake_amplitude_g"].get<double>(), 0.5);
+    EXPECT_EQ(c["runs"][0]["stages"], 4);
+    EXPECT_TRUE(c["converged"].get<bool>());
+    r = woven(small + " --shakes -1 --out d");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_THAT(r.err, HasSubstr("command line: --shakes:"));
 }
 
 }  // namespace

@@ -84,6 +84,7 @@ struct CusickCommandOptions {
     std::optional<std::string> clamp_gap_mm;
     std::optional<std::string> hysteresis;  ///< loading-branch (default) or friction
     std::optional<std::string> protocol;    ///< release (default) or lowered
+    std::optional<std::string> shakes;      ///< quasi-static shake cycles after the protocol (default 0)
     std::optional<std::string> out;
     bool no_render = false;
     GivenFabric given_fabric;

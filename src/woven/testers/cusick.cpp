@@ -77,6 +77,8 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
         throw InputError(kSource, "disc_thickness_m", "expected a positive disc thickness and a pedestal no wider than the disc");
     if (!std::isfinite(o.lower_step_m) || o.lower_step_m < 0 || (o.lower_step_m > 0 && !(o.lower_step_m >= s && o.lower_step_m <= R - rd)))
         throw InputError(kSource, "lower_step_m", "expected 0 (automatic) or a plate step of at least the spacing and at most the overhang (" + num(R - rd) + " m)");
+    if (o.shakes < 0 || o.shakes > 100 || !(o.shake_amplitude > 0 && o.shake_amplitude < 1))
+        throw InputError(kSource, "shakes", "expected 0 to 100 shakes of an amplitude between 0 and 1 g");
     if (!std::isfinite(o.clamp_margin) || std::abs(o.clamp_margin) > 2)
         throw InputError(kSource, "clamp_margin", "expected a margin between -2 and 2 spacings");
     const bool discs = o.clamp == CusickClamp::DISCS;
@@ -156,46 +158,63 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     if (options.perturbation_m > 0) solver.perturbation = 0;
 
     CusickResult r;
+    // One stage: a drape to rest from the state reached, the slip states carried on; steps,
+    // iterations and times summed over the stages.
+    sim::Result total;
+    Positions x = setup.initial;
+    r.stages = 0;
+    const auto stage = [&](const geometry::ObstacleSet& obstacles) {
+        problem.obstacles = &obstacles;
+        problem.initial = x;
+        if (r.stages > 0) solver.perturbation = 0;  // the start's perturbation once
+        sim::Result s = sim::drape(problem, solver, progress);
+        total.steps += s.steps;
+        total.iterations += s.iterations;
+        total.factorizations += s.factorizations;
+        total.cg_iterations += s.cg_iterations;
+        total.softened_steps += s.softened_steps;
+        total.simulated_time += s.simulated_time;
+        total.wall_time += s.wall_time;
+        x = s.x;
+        s.steps = total.steps;
+        s.iterations = total.iterations;
+        s.factorizations = total.factorizations;
+        s.cg_iterations = total.cg_iterations;
+        s.softened_steps = total.softened_steps;
+        s.simulated_time = total.simulated_time;
+        s.wall_time = total.wall_time;
+        r.drape = std::move(s);
+        ++r.stages;
+        return !r.drape.interrupted;
+    };
+    bool going = true;
     if (options.protocol == CusickProtocol::RELEASE) {
-        r.drape = sim::drape(problem, solver, progress);
+        going = stage(setup.obstacles);
     } else {
-        // LOWERED: the overhang on a plate lowered in stages, each a drape to rest from the last
-        // (at rest, the slip states carried on), down to where the hem hangs free (R - r_d below
-        // the disc's top); then the plate is gone and the specimen settles on its own.
+        // LOWERED: the overhang on a plate lowered in stages, each a drape to rest from the last,
+        // down to where the hem hangs free (R - r_d below the disc's top); the last stage
+        // without the plate: the specimen settles on its own.
         const double overhang = 0.5 * (options.specimen_diameter_m - options.disc_diameter_m);
         const double lower_step = lower_step_m(options);
         const int stages = static_cast<int>(std::ceil(overhang / lower_step - 1e-9));
-        Positions x = setup.initial;
-        sim::Result total;
-        for (int k = 1; k <= stages; ++k) {
-            geometry::ObstacleSet stage;
-            add_instrument(stage, options, setup.disc_top_z, setup.clamp_disc_bottom_z);
+        for (int k = 1; k <= stages && going; ++k) {
+            geometry::ObstacleSet obstacles;
+            add_instrument(obstacles, options, setup.disc_top_z, setup.clamp_disc_bottom_z);
             const double plate_z = setup.disc_top_z - k * lower_step;
-            if (k < stages) stage.add(std::make_unique<geometry::Plane>(Vec3(0, 0, plate_z), Vec3::UnitZ(), options.specimen_diameter_m));
-            problem.obstacles = &stage;
-            problem.initial = x;
-            if (k > 1) solver.perturbation = 0;  // the start's perturbation once
-            sim::Result step = sim::drape(problem, solver, progress);
-            total.steps += step.steps;
-            total.iterations += step.iterations;
-            total.factorizations += step.factorizations;
-            total.cg_iterations += step.cg_iterations;
-            total.softened_steps += step.softened_steps;
-            total.simulated_time += step.simulated_time;
-            total.wall_time += step.wall_time;
-            x = step.x;
-            step.steps = total.steps;
-            step.iterations = total.iterations;
-            step.factorizations = total.factorizations;
-            step.cg_iterations = total.cg_iterations;
-            step.softened_steps = total.softened_steps;
-            step.simulated_time = total.simulated_time;
-            step.wall_time = total.wall_time;
-            r.drape = std::move(step);
-            r.stages = k;
-            if (r.drape.interrupted) break;
+            if (k < stages) obstacles.add(std::make_unique<geometry::Plane>(Vec3(0, 0, plate_z), Vec3::UnitZ(), options.specimen_diameter_m));
+            going = stage(obstacles);
         }
     }
+    // The shake, quasi-static: in the clamp's frame the disc's vertical acceleration a adds to
+    // gravity, so each half cycle is a drape to rest at g (1 +- amplitude); then at g.
+    const double g = model.gravity();
+    for (int c = 0; c < options.shakes && going; ++c)
+        for (double sign : {1.0, -1.0}) {
+            model.set_gravity(g * (1 + sign * options.shake_amplitude));
+            if (going) going = stage(setup.obstacles);
+        }
+    model.set_gravity(g);
+    if (options.shakes > 0 && going) stage(setup.obstacles);
     r.surface = model::cut_surface(setup.grid, setup.cut, r.drape.x, &r.surface_uv);
     r.spacing_m = setup.grid.sigma;
     r.specimen_area_m2 = setup.cut.total_area;

@@ -106,6 +106,12 @@ struct CusickOptions {
     CusickProtocol protocol = CusickProtocol::RELEASE;
     /// LOWERED: the plate's step (m), from the spacing to the overhang; 0: lower_step_m(options).
     double lower_step_m = 0;
+    /// After the protocol: this many cycles of a quasi-static vertical shake of the disc, each
+    /// a drape to rest at gravity g (1 + shake_amplitude) and one at g (1 - shake_amplitude)
+    /// (the clamp's frame, where the disc's acceleration adds to gravity), then a drape to rest
+    /// at g. 0: none. With friction the cycles work the bends back and forth inside their loops.
+    int shakes = 0;
+    double shake_amplitude = 0.5;  ///< the disc's peak acceleration over g, in (0, 1)
     model::ModelOptions model;  ///< its hysteresis: LOADING_BRANCH (default) or FRICTION (the fast solver's)
     sim::SolverOptions solver;  ///< its seed and perturbation make the run-to-run variation
     analysis::DrapeShadowOptions shadow;
@@ -144,7 +150,7 @@ struct CusickResult {
     double spacing_m = 0;
     double specimen_area_m2 = 0;  ///< W x this is the specimen's mass
     int particles = 0;            ///< kept particles
-    int stages = 1;               ///< drapes run: LOWERED the plate's stages and the settling
+    int stages = 1;               ///< drapes run: LOWERED the plate's stages and the settling, and 2 per shake and 1 after
 };
 
 /// Drapes the specimen to rest by options.protocol (sim::drape with the residual test of `woven
