@@ -5,7 +5,8 @@ For every fabric in docs/validation/measured.csv: `woven cusick docs/validation/
 --seeds K --specimen-cm D --disc-cm d --threads 1 --no-render` at the default spacing, with the
 specimen and disc of the row, then one table row with the measured and simulated drape coefficient
 (DC) and nodes. Writes docs/validation/table.md, docs/validation/results.json and
-docs/validation/dc_measured_vs_simulated.png.
+docs/validation/dc_measured_vs_simulated.png (elsewhere with --results). `--hysteresis friction`
+runs `woven cusick --hysteresis friction` (give it its own --out and --results).
 
 Two sets (the `set` column):
   main           every value the model takes is the source's (converted by units only); the headline
@@ -109,7 +110,7 @@ def fabric_file(row, G, out):
     return copy
 
 
-def run_point(woven, row, tag, G, seeds, out, reuse):
+def run_point(woven, row, tag, G, seeds, out, reuse, hysteresis="loading-branch"):
     d = os.path.join(out, tag)
     js = os.path.join(d, "cusick.json")
     if reuse and os.path.exists(js):
@@ -120,6 +121,8 @@ def run_point(woven, row, tag, G, seeds, out, reuse):
     fab = fabric_file(row, G, out)
     cmd = [woven, "cusick", fab, "--seeds", str(seeds), "--specimen-cm", row["specimen_cm"], "--disc-cm", row["disc_cm"],
            "--threads", "1", "--no-render", "--out", d]
+    if hysteresis != "loading-branch":
+        cmd += ["--hysteresis", hysteresis]
     t0 = time.time()
     with open(os.path.join(out, tag + ".log"), "w") as log:
         log.write(" ".join(cmd) + "\n")
@@ -156,6 +159,9 @@ def main():
     ap.add_argument("--only", nargs="*", default=None, help="run only these fabric names")
     ap.add_argument("--reuse", action="store_true", help="skip a run whose cusick.json exists with the same seed count")
     ap.add_argument("--table-only", action="store_true", help="do not run woven; use the cusick.json already in --out")
+    ap.add_argument("--hysteresis", choices=["loading-branch", "friction"], default="loading-branch",
+                    help="woven cusick --hysteresis (friction: use another --out and --results)")
+    ap.add_argument("--results", default=VAL, help="where table.md, results.json and the plot go (default docs/validation)")
     a = ap.parse_args()
 
     with open(os.path.join(VAL, "measured.csv"), newline="") as f:
@@ -168,7 +174,7 @@ def main():
             if a.only and r["name"] not in a.only:
                 continue
             for tag, G in points(r):
-                run_point(a.woven, r, tag, G, a.seeds, a.out, a.reuse)
+                run_point(a.woven, r, tag, G, a.seeds, a.out, a.reuse, a.hysteresis)
 
     main_rows, supp_rows = [], []
     for r in rows:
@@ -274,7 +280,7 @@ def main():
         ins = sum(1 for s in supp if s["inside"])
         L.append(f"\n{ins} of {len(supp)} measured DCs lie inside the simulated interval over the G bracket.")
     L.append("\n![simulated against measured DC](dc_measured_vs_simulated.png)")
-    with open(os.path.join(VAL, "table.md"), "w") as f:
+    with open(os.path.join(a.results, "table.md"), "w") as f:
         f.write("\n".join(L) + "\n")
 
     res = dict(version=p0["version"], seeds=seeds, spacing_m=p0["spacing"],
@@ -285,7 +291,7 @@ def main():
                                        wall_time_s=pts[0][2]["wall"], error=e, loo_error=e)
                                   for (r, pts), e in zip(main_rows, err)]),
                supplementary=supp)
-    with open(os.path.join(VAL, "results.json"), "w") as f:
+    with open(os.path.join(a.results, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
         f.write("\n")
 
@@ -326,13 +332,13 @@ def main():
     ax.set_title("Cusick DC: measured fabrics against woven", fontsize=10)
     ax.legend(fontsize=6.5, loc="upper left")
     fig.tight_layout()
-    fig.savefig(os.path.join(VAL, "dc_measured_vs_simulated.png"))
+    fig.savefig(os.path.join(a.results, "dc_measured_vs_simulated.png"))
     msg = f"main set: MAE {mae:.2f} points, Spearman {rho:.3f} (p {p_rho:.3f})"
     if pub:
         msg += f" (published simulation: {pmae:.2f}, {prho:.3f})"
     if supp:
         msg += f"; supplementary: {sum(1 for s in supp if s['inside'])}/{len(supp)} inside their G bracket"
-    print(msg + "; wrote docs/validation/table.md, results.json, dc_measured_vs_simulated.png")
+    print(msg + f"; wrote table.md, results.json, dc_measured_vs_simulated.png in {a.results}")
 
 
 if __name__ == "__main__":

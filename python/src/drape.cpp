@@ -48,7 +48,7 @@ py::array_t<std::int32_t> faces_array(const DrapeResult& r)
 }
 
 DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed, py::object threads,
-                  py::object max_steps, py::object perturb, py::object progress)
+                  py::object max_steps, py::object perturb, py::object hysteresis, py::object progress)
 {
     cli::DrapeOptions o;
     cli::DrapeInputs in;
@@ -68,6 +68,7 @@ DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::obje
     o.threads = option_text(threads);
     o.max_steps = option_text(max_steps);
     o.perturb = option_text(perturb);
+    o.hysteresis = option_text(hysteresis);
     if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw py::type_error("drape(): progress must be callable or None");
 
     // 1. Validate and build, as the command.
@@ -207,13 +208,14 @@ report written (with `files`: each file's size and SHA-256).)")
 
     m.def("drape", &drape, py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(), py::arg("grid") = py::none(),
           py::arg("solver") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = py::none(),
-          py::arg("max_steps") = py::none(), py::arg("perturb") = py::none(), py::arg("progress") = py::none(),
+          py::arg("max_steps") = py::none(), py::arg("perturb") = py::none(), py::arg("hysteresis") = py::none(),
+          py::arg("progress") = py::none(),
           R"(Drapes a cloth over a scene's obstacles to static equilibrium, as `woven drape` does.
 
 scene: a built-in scene name, a scene .toml path or a woven.Scene. fabric: a built-in name, a
 fabric .toml path or a woven.Fabric (default: the scene's). grid, solver ("fast" or "paper"),
-seed, threads (0: all cores), max_steps (0: the solver's default) and perturb (m) are the
-command's options, checked as it checks them: a bad value raises woven.InputError with its
+seed, threads (0: all cores), max_steps (0: the solver's default), perturb (m) and hysteresis
+("loading-branch" or "friction") are the command's options, checked as it checks them: a bad value raises woven.InputError with its
 message ("command line: --grid: ..."). progress, if given, is called with a dict after each step
 (event "step": step, max_steps, time_s, energy_J, residual and tolerance in units of m g,
 move_m, wall_s, fraction of the way to the tolerance) and before each Newton iteration (event

@@ -69,7 +69,8 @@ py::object kes_test(py::object fabric, py::object test, py::object direction, py
 }
 
 py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm, py::object spacing_cm, py::object seeds, py::object seed,
-                  py::object threads, py::object max_steps, py::object shear_law, bool render, py::object out)
+                  py::object threads, py::object max_steps, py::object shear_law, py::object hysteresis, py::object protocol,
+                  py::object shakes, bool render, py::object out)
 {
     cli::CusickCommandOptions o;
     const FabricArg f = fabric_arg(fabric);
@@ -83,6 +84,9 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
     o.threads = option_text(threads);
     o.max_steps = option_text(max_steps);
     o.shear_law = option_text(shear_law);
+    o.hysteresis = option_text(hysteresis);
+    o.protocol = option_text(protocol);
+    o.shakes = option_text(shakes);
     o.no_render = !render;
     const OutDir dir(out);
     o.out = dir.path();
@@ -125,10 +129,12 @@ values). The files (curves as CSV, plots) are written to out when given, else to
 folder that is removed.)");
     m.def("cusick", &cusick, py::arg("fabric"), py::kw_only(), py::arg("specimen_cm") = 30, py::arg("disc_cm") = 18,
           py::arg("spacing_cm") = py::none(), py::arg("seeds") = 1, py::arg("seed") = 1, py::arg("threads") = py::none(),
-          py::arg("max_steps") = py::none(), py::arg("shear_law") = py::none(), py::arg("render") = true, py::arg("out") = py::none(),
+          py::arg("max_steps") = py::none(), py::arg("shear_law") = py::none(), py::arg("hysteresis") = py::none(),
+          py::arg("protocol") = py::none(), py::arg("shakes") = py::none(), py::arg("render") = true, py::arg("out") = py::none(),
           R"(The Cusick drape test (BS 5058, ISO 9073-9) on a simulated specimen, as `woven cusick`.
 
-fabric: a built-in name, a fabric .toml path or a woven.Fabric. Returns cusick.json as a dict:
+fabric: a built-in name, a fabric .toml path or a woven.Fabric. hysteresis ("loading-branch" or
+"friction"), protocol ("release" or "lowered") and shakes are the command's options. Returns cusick.json as a dict:
 drape_coefficient_percent, nodes, node_angles_deg, runs (one per seed), interrupted, ... The
 files (cusick.obj, shadow.png, drape.png) are written to out when given, else to a temporary
 folder that is removed. Ctrl-C stops it after the current step; the runs done are returned,

@@ -154,6 +154,10 @@ CASES = [
     (["kes-test", "cotton", "--test", "tensile"], lambda t: woven.kes_test("cotton", test="tensile")),
     (["cusick", "cotton", "--specimen-cm", "-1"], lambda t: woven.cusick("cotton", specimen_cm=-1)),
     (["cusick", "cotton", "--seeds", "0"], lambda t: woven.cusick("cotton", seeds=0)),
+    (["drape", "cube", "--hysteresis", "sticky"], lambda t: woven.drape("cube", hysteresis="sticky")),
+    (["cusick", "cotton", "--hysteresis", "sticky"], lambda t: woven.cusick("cotton", hysteresis="sticky")),
+    (["cusick", "cotton", "--protocol", "drop"], lambda t: woven.cusick("cotton", protocol="drop")),
+    (["cusick", "cotton", "--shakes", "-1"], lambda t: woven.cusick("cotton", shakes=-1)),
 ]
 
 
@@ -314,3 +318,12 @@ def test_the_cusick_example_plots(tmp_path):
     assert p.returncode == 0, p.stderr
     assert (tmp_path / "dc.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert len(re.findall(r"DC \d+\.\d %", p.stdout)) == 3
+
+
+def test_cusick_and_drape_take_the_hysteresis_and_protocol():
+    # Friction inside the weave, the lowered protocol and a shake, as the command's options.
+    c = woven.cusick("silk", specimen_cm=12, disc_cm=6, spacing_cm=1, threads=1, render=False, hysteresis="friction",
+                     protocol="lowered", shakes=1)
+    assert (c["hysteresis"], c["protocol"], c["shakes"], c["runs"][0]["stages"]) == ("friction", "lowered", 1, 5)
+    r = woven.drape("cube", fabric="wool", grid=7, threads=1, max_steps=5, hysteresis="friction")
+    assert r.report["model"]["hysteresis"] == "friction" and r.report["protocol"] == "drop"

@@ -87,12 +87,18 @@ def schemas(woven, schema_dir, work):
          "--no-render", "--threads", "1", "--out", "c"], work)
     run([woven, "cusick", "silk", "--specimen-cm", "12", "--disc-cm", "6", "--spacing-cm", "1", "--clamp", "discs",
          "--no-render", "--threads", "1", "--out", "c2"], work)
+    # Friction inside the weave, the lowered protocol and a shake: hysteresis, protocol, lower_step_m, shakes.
+    run([woven, "cusick", "silk", "--specimen-cm", "12", "--disc-cm", "6", "--spacing-cm", "1", "--hysteresis", "friction",
+         "--protocol", "lowered", "--shakes", "1", "--no-render", "--threads", "1", "--out", "c3"], work)
+    run([woven, "drape", "tiny.toml", "--fabric", "wool", "--hysteresis", "friction", "--max-steps", "30", "--threads", "1",
+         "--no-render", "--out", "df"], work)
     run([woven, "kes-test", "cotton", "--test", "bending", "--direction", "warp", "--out", "k"], work)
     # A shear loop with friction (the default): the hysteresis fields filled.
     run([woven, "kes-test", "wool", "--test", "shear", "--direction", "warp", "--sigma-cm", "1", "--out", "k2"], work)
     cases = [(report, os.path.join(d, "report.json")), (report, os.path.join(work, "cube", "report.json")),
              (report, os.path.join(work, "fit", "report.json")),
              (cusick, os.path.join(work, "c", "cusick.json")), (cusick, os.path.join(work, "c2", "cusick.json")),
+             (cusick, os.path.join(work, "c3", "cusick.json")), (report, os.path.join(work, "df", "report.json")),
              (kes, os.path.join(work, "k", "kes-report.json")), (kes, os.path.join(work, "k2", "kes-report.json"))]
     for validator, path in cases:
         with open(path) as f:

@@ -152,6 +152,11 @@ int run_cusick(const CusickCommandOptions& o)
     if (auto m = parse_integer(o.max_steps, "--max-steps", 0, 1000000)) co.solver.max_steps = static_cast<int>(*m);
     if (o.shear_law)
         co.model.shear_law = parse_shear_law(*o.shear_law, "--shear-law");
+    if (o.hysteresis) co.model.hysteresis = parse_hysteresis(*o.hysteresis, "--hysteresis");
+    if (o.protocol)
+        co.protocol = parse_choice(*o.protocol, "--protocol", {"release", "lowered"}) == 0 ? testers::CusickProtocol::RELEASE
+                                                                                          : testers::CusickProtocol::LOWERED;
+    if (o.shakes) co.shakes = static_cast<int>(parse_integer(*o.shakes, "--shakes", 0, 100));
     if (o.clamp) {
         if (*o.clamp == "pinned") co.clamp = testers::CusickClamp::PINNED;
         else if (*o.clamp == "discs") co.clamp = testers::CusickClamp::DISCS;
@@ -199,7 +204,9 @@ int run_cusick(const CusickCommandOptions& o)
     // 2. The runs: seeds seed0, seed0 + 1, ...
     const double R = 0.5 * co.specimen_diameter_m, rd = 0.5 * co.disc_diameter_m;
     std::cerr << "woven: cusick " << name << ": specimen " << 2 * R * 100 << " cm on a " << 2 * rd * 100 << " cm disc, spacing "
-              << co.spacing_m * 100 << " cm (" << setup.cut.count << " particles), " << shear_law_text(co.model) << ", " << runs
+              << co.spacing_m * 100 << " cm (" << setup.cut.count << " particles), " << shear_law_text(co.model) << ", hysteresis "
+              << model::to_string(co.model.hysteresis) << ", protocol " << testers::protocol_name(co.protocol)
+              << (co.shakes > 0 ? " and " + std::to_string(co.shakes) + " shakes" : std::string()) << ", " << runs
               << (runs == 1 ? " run\n" : " runs\n");
     nlohmann::json run_list = nlohmann::json::array();
     std::vector<double> dcs;
@@ -230,6 +237,7 @@ int run_cusick(const CusickCommandOptions& o)
         j["steps"] = r.drape.steps;
         j["iterations"] = r.drape.iterations;
         j["wall_time_s"] = r.drape.wall_time;
+        j["stages"] = r.stages;
         j["max_residual_rel"] = r.drape.equilibrium.max_residual_rel;
         j["energy_J"] = r.drape.energy.total();
         all_converged = all_converged && r.drape.converged;
@@ -272,6 +280,11 @@ int run_cusick(const CusickCommandOptions& o)
     rep["pinned_radius_m"] = setup.pinned_radius;
     if (co.clamp == testers::CusickClamp::DISCS) rep["clamp_gap_m"] = setup.clamp_disc_bottom_z - setup.disc_top_z;
     rep["perturbation_m"] = co.perturbation_m;
+    rep["hysteresis"] = model::to_string(co.model.hysteresis);
+    rep["protocol"] = testers::protocol_name(co.protocol);
+    if (co.protocol == testers::CusickProtocol::LOWERED) rep["lower_step_m"] = testers::lower_step_m(co);
+    rep["shakes"] = co.shakes;
+    if (co.shakes > 0) rep["shake_amplitude_g"] = co.shake_amplitude;
     rep["shear_scale"] = co.model.shear_scale;
     rep["specimen_area_m2"] = setup.cut.total_area;
     rep["specimen_mass_kg"] = setup.cut.total_area * fabric.areal_density_mg_cm2 * 1e-2;
@@ -333,6 +346,15 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                     "(the ring out to the rim held between the support disc and a clamp disc, true circles)");
     sub->add_option("--clamp-margin", o->clamp_margin, "The pinned clamp's reach beyond the disc's rim, in spacings (default 0.5)");
     sub->add_option("--clamp-gap-mm", o->clamp_gap_mm, "The discs clamp's gap between the discs, mm (default: the contact distance, 1 mm)");
+    sub->add_option("--hysteresis", o->hysteresis,
+                    "loading-branch (the default: each KES curve's loading branch as an elastic energy) or friction (the mean "
+                    "line plus friction inside the weave, its slip state carried through the drape)");
+    sub->add_option("--protocol", o->protocol,
+                    "release (the default: the clamped specimen released flat, its overhang falling to rest) or lowered (the "
+                    "overhang on a plate lowered in 1 cm stages, each to rest, then the plate taken away: a monotonic loading)");
+    sub->add_option("--shakes", o->shakes,
+                    "After the protocol, this many cycles of a quasi-static vertical shake of the disc (to rest at 1.5 g, at "
+                    "0.5 g, in the clamp's frame), then to rest at g (default 0)");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->callback([o, &exit_code] { exit_code = run_cusick(*o); });

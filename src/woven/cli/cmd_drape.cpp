@@ -78,6 +78,10 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)");
     sub->add_option("--perturb", o->perturb,
                     "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)");
+    sub->add_option("--hysteresis", o->hysteresis,
+                    "loading-branch (each KES curve's loading branch as an elastic energy) or friction (the mean line plus friction "
+                    "inside the weave, its slip state updated after each step: the drape remembers its path; fast solver); "
+                    "overrides the scene's [model] hysteresis");
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->add_flag("--ply-ascii", o->ply_ascii, "Write drape.ply as ASCII PLY (default: binary little-endian)");

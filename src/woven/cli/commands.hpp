@@ -82,6 +82,9 @@ struct CusickCommandOptions {
     std::optional<std::string> clamp;
     std::optional<std::string> clamp_margin;
     std::optional<std::string> clamp_gap_mm;
+    std::optional<std::string> hysteresis;  ///< loading-branch (default) or friction
+    std::optional<std::string> protocol;    ///< release (default) or lowered
+    std::optional<std::string> shakes;      ///< quasi-static shake cycles after the protocol (default 0)
     std::optional<std::string> out;
     bool no_render = false;
     GivenFabric given_fabric;
@@ -98,6 +101,7 @@ struct DrapeOptions {
     std::optional<std::string> threads;
     std::optional<std::string> max_steps;
     std::optional<std::string> perturb;
+    std::optional<std::string> hysteresis;  ///< loading-branch or friction (overrides the scene's [model] hysteresis)
     std::string out = "out";
     bool no_render = false;
     bool ply_ascii = false;

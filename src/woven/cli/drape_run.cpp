@@ -47,6 +47,11 @@ std::unique_ptr<DrapeSetup> prepare_drape(const DrapeOptions& options, std::vect
     if (const auto t = parse_integer(options.threads, "--threads", 0, io::kMaxThreads)) ov.threads = static_cast<int>(*t);
     io::apply_overrides(scene, ov, kCommandLine);
     if (options.perturb) scene.solver.perturbation = parse_number(*options.perturb, "--perturb", 0, io::kMaxPerturbation_m);
+    if (options.hysteresis) scene.model.hysteresis = parse_hysteresis(*options.hysteresis, "--hysteresis");
+    if (scene.model.hysteresis == model::Hysteresis::FRICTION && scene.solver.kind == sim::SolverKind::PAPER)
+        throw InputError(options.hysteresis || options.solver ? kCommandLine : scene.source_path,
+                         options.hysteresis ? "--hysteresis" : options.solver ? "--solver" : "model.hysteresis",
+                         "expected loading-branch with the paper solver, or the fast solver with friction (friction inside the weave is the fast solver's)");
     // Threads and memory before anything large is built.
     d.threads = choose_threads(scene.solver.threads);
     scene.solver.threads = d.threads.used;
@@ -74,6 +79,7 @@ std::unique_ptr<DrapeSetup> prepare_drape(const DrapeOptions& options, std::vect
         with_fabric_source(fabric_src, [&] { d.model.emplace(model::make_cloth_model(d.fabric, d.grid, scene.model, d.cut->active, d.cut->area)); });
     }
     d.problem.model = &*d.model;
+    if (d.model->has_slip()) d.problem.slip = &*d.model;  // friction: the states evolve with the drape
     d.problem.obstacles = &scene.obstacles;
     d.problem.initial = scene.cloth.initial_positions();
     d.problem.pinned = scene.pinned_indices();
@@ -86,7 +92,8 @@ std::string drape_banner(const DrapeSetup& d)
 {
     std::ostringstream s;
     s << "draping " << d.scene.name << " (" << d.grid.nu << " x " << d.grid.nv << " particles, fabric " << d.fabric_label << ", "
-      << sim::to_string(d.scene.solver.kind) << " solver, " << shear_law_text(d.scene.model) << ")";
+      << sim::to_string(d.scene.solver.kind) << " solver, " << shear_law_text(d.scene.model)
+      << (d.scene.model.hysteresis == model::Hysteresis::FRICTION ? ", friction inside the weave" : "") << ")";
     return s.str();
 }
 
@@ -134,6 +141,9 @@ nlohmann::json drape_report_json(const DrapeRun& run, const std::vector<std::str
     in.folds = run.folds ? &*run.folds : nullptr;
     nlohmann::json report = drape_report(in);
     report["threads_requested"] = d.threads.requested;
+    // The path the cloth takes (with friction inside the weave the drape depends on it): the
+    // paper's drop, the cloth released at rest from its start (flat above the cube).
+    report["protocol"] = "drop";
     report["perturbation_m"] = d.scene.solver.kind == sim::SolverKind::FAST ? d.scene.solver.perturbation : 0.0;
     require_finite(report, "the drape", {"folds"});
     return report;

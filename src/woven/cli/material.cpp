@@ -46,4 +46,9 @@ model::ShearLaw parse_shear_law(const std::string& text, const std::string& opti
     return parse_choice(text, option, {"deembedded", "measured"}) == 0 ? model::ShearLaw::DEEMBEDDED : model::ShearLaw::MEASURED;
 }
 
+model::Hysteresis parse_hysteresis(const std::string& text, const std::string& option)
+{
+    return parse_choice(text, option, {"loading-branch", "friction"}) == 0 ? model::Hysteresis::LOADING_BRANCH : model::Hysteresis::FRICTION;
+}
+
 }  // namespace woven::cli

@@ -26,5 +26,7 @@ std::string shear_law_text(const model::ModelOptions& options);
 const char* to_string(model::ShearLaw law);
 /// The law a command-line word names (`--shear-law`); InputError naming `option` otherwise.
 model::ShearLaw parse_shear_law(const std::string& text, const std::string& option);
+/// --hysteresis: loading-branch or friction (the one-line error otherwise).
+model::Hysteresis parse_hysteresis(const std::string& text, const std::string& option);
 
 }  // namespace woven::cli

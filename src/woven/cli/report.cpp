@@ -92,6 +92,7 @@ nlohmann::json model_json(const model::ClothModel& model, const model::ModelOpti
             {"bending_form", o.bending_form == model::BendingForm::WORK ? "work" : "secant"},
             {"shear_law", o.shear_law == model::ShearLaw::MEASURED ? "measured" : "deembedded"},
             {"shear_scale", model.shear_scale()},
+            {"hysteresis", model::to_string(model.hysteresis())},
             {"gram_force", o.gram_force == units::GramForce::PAPER ? "paper" : "standard"},
             {"dyn_per_gram_force", units::dyn_per_gram_force(o.gram_force)},
             {"tensile_stiffness_N_m", convergent ? model.spacing().tensile : 0.0},

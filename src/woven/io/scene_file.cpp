@@ -203,6 +203,10 @@ void parse_model(const TomlTable& t, model::ModelOptions& o)
     o.shear_law = t.choice("shear_law", measured ? "measured" : "deembedded", {"deembedded", "measured"}) == "measured"
         ? model::ShearLaw::MEASURED
         : model::ShearLaw::DEEMBEDDED;
+    const bool friction = o.hysteresis == model::Hysteresis::FRICTION;
+    o.hysteresis = t.choice("hysteresis", friction ? "friction" : "loading-branch", {"loading-branch", "friction"}) == "friction"
+        ? model::Hysteresis::FRICTION
+        : model::Hysteresis::LOADING_BRANCH;
     o.tensile_stiffness = t.number("tensile_stiffness_N_m", Range{0, 1e9, false, "N/m"}, o.tensile_stiffness);
     o.gram_force = t.choice("gram_force", "paper", {"paper", "standard"}) == "standard" ? units::GramForce::STANDARD
                                                                                          : units::GramForce::PAPER;

@@ -139,6 +139,14 @@ public:
     /// W sigma^2 (kg): the mass of a full sigma x sigma patch, an interior particle's.
     double particle_mass() const { return patch_mass_; }
     double gravity() const { return gravity_; }  ///< m/s^2
+    /// Sets the gravity of Eq. (6) (m/s^2, >= 0): in the frame of a clamp moved vertically with
+    /// acceleration a, the cloth feels g + a (a shaken Cusick disc, testers/cusick.hpp). C0,
+    /// chosen at construction, is kept.
+    void set_gravity(double g)
+    {
+        assert(g >= 0 && std::isfinite(g));
+        gravity_ = g;
+    }
     const ThreadSpacing& spacing() const { return spacing_; }
     const BendingEnergy& bending_warp() const { return warp_; }
     const BendingEnergy& bending_weft() const { return weft_; }

@@ -144,6 +144,13 @@ struct Problem {
     const geometry::ObstacleSet* obstacles = nullptr;
     Positions initial;
     std::vector<int> pinned;  ///< particles held at their initial positions
+    /// Friction inside the weave (model::Hysteresis::FRICTION, slip.hpp): the model whose slip
+    /// states the fast solver updates by the return mapping after each step
+    /// (ClothModel::update_slip), so that each step minimises an energy with its states fixed and
+    /// the path is remembered; it must be `model` itself. The states are not reset: a protocol
+    /// of several drapes carries them on. Null: they stay as they are (a model without friction
+    /// needs none).
+    model::ClothModel* slip = nullptr;
 };
 
 /// Progress after each step; the callback returns false to stop (Ctrl-C): the state reached

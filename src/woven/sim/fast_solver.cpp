@@ -6,7 +6,8 @@
 // particle crosses an obstacle) and rejects any trial of infinite energy (trellis at 1.05 rad,
 // a thread folded flat, contact). The step h doubles while Newton converges, so the
 // cloth first falls and swings (a physical path) and then settles; the run ends when the
-// largest residual force on a free particle is below the tolerance times its weight.
+// largest residual force on a free particle is below the tolerance times its weight. With
+// friction inside the weave (Problem::slip) the slip states are updated between steps.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -245,6 +246,10 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         }
         result.iterations += iterations;
         if (result.interrupted) break;
+        // Friction inside the weave: the return mapping at the step's end state (slip.hpp). It
+        // leaves each element's force at x as it is (so the residual below is the step's), and
+        // the next step minimises with the new states (an elastoplastic solver's update).
+        if (problem.slip && model.has_slip()) problem.slip->update_slip(x);
         if (static_step && softening == 1.0 && iterations >= fo.max_newton_iterations) ++capped_static_steps;
 
         for (int i = 0; i < n; ++i) v[i] = solver.pinned[i] ? Vec3::Zero() : Vec3((x[i] - x_prev[i]) / h / (1.0 + fo.damping * h));

@@ -33,9 +33,31 @@ std::string num(double v)
     return s.str();
 }
 
+/// The instrument's obstacles: floor, pedestal, support disc (top at disc_top_z) and, DISCS, the
+/// clamp disc (underside at clamp_bottom_z).
+void add_instrument(geometry::ObstacleSet& set, const CusickOptions& o, double disc_top_z, double clamp_bottom_z)
+{
+    const double R = 0.5 * o.specimen_diameter_m, rd = 0.5 * o.disc_diameter_m;
+    set.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ(), 4 * R));
+    set.add(std::make_unique<geometry::Cylinder>(Vec3::Zero(), o.pedestal_radius_m, disc_top_z - o.disc_thickness_m));
+    set.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, disc_top_z - o.disc_thickness_m), rd, o.disc_thickness_m));
+    // The clamp disc: radius r_d, its underside clamp_gap_m above the support's top; the rims of
+    // both are true circles (the cylinders' exact distance fields).
+    if (o.clamp == CusickClamp::DISCS) set.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, clamp_bottom_z), rd, o.disc_thickness_m));
+}
+
 }  // namespace
 
 const char* clamp_name(CusickClamp clamp) { return clamp == CusickClamp::DISCS ? "discs" : "pinned"; }
+
+const char* protocol_name(CusickProtocol protocol) { return protocol == CusickProtocol::LOWERED ? "lowered" : "release"; }
+
+double lower_step_m(const CusickOptions& o)
+{
+    if (o.lower_step_m > 0) return o.lower_step_m;
+    const double overhang = 0.5 * (o.specimen_diameter_m - o.disc_diameter_m);
+    return std::min(std::max(kCusickLowerStep, 2 * o.spacing_m), overhang);
+}
 
 CusickSetup make_cusick_setup(const CusickOptions& o)
 {
@@ -53,6 +75,10 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
         throw InputError(kSource, "perturbation_m", "expected 0 or more, below a quarter of the overhang");
     if (!(o.disc_thickness_m > 0) || !(o.pedestal_radius_m > 0) || !(o.pedestal_radius_m <= rd))
         throw InputError(kSource, "disc_thickness_m", "expected a positive disc thickness and a pedestal no wider than the disc");
+    if (!std::isfinite(o.lower_step_m) || o.lower_step_m < 0 || (o.lower_step_m > 0 && !(o.lower_step_m >= s && o.lower_step_m <= R - rd)))
+        throw InputError(kSource, "lower_step_m", "expected 0 (automatic) or a plate step of at least the spacing and at most the overhang (" + num(R - rd) + " m)");
+    if (o.shakes < 0 || o.shakes > 100 || !(o.shake_amplitude > 0 && o.shake_amplitude < 1))
+        throw InputError(kSource, "shakes", "expected 0 to 100 shakes of an amplitude between 0 and 1 g");
     if (!std::isfinite(o.clamp_margin) || std::abs(o.clamp_margin) > 2)
         throw InputError(kSource, "clamp_margin", "expected a margin between -2 and 2 spacings");
     const bool discs = o.clamp == CusickClamp::DISCS;
@@ -76,16 +102,8 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
     c.cut = model::cut_grid(c.grid, c.outline, kSource, "specimen");
 
     c.disc_top_z = (R - rd) + kFloorClearance;
-    c.obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ(), 4 * R));
-    c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3::Zero(), o.pedestal_radius_m, c.disc_top_z - o.disc_thickness_m));
-    c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, c.disc_top_z - o.disc_thickness_m), rd, o.disc_thickness_m));
-
-    if (discs) {
-        // The clamp disc: radius r_d, its underside clamp_gap_m above the support's top;
-        // the rims of both are true circles (the cylinders' exact distance fields).
-        c.clamp_disc_bottom_z = c.disc_top_z + disc_gap;
-        c.obstacles.add(std::make_unique<geometry::Cylinder>(Vec3(0, 0, c.clamp_disc_bottom_z), rd, o.disc_thickness_m));
-    }
+    if (discs) c.clamp_disc_bottom_z = c.disc_top_z + disc_gap;
+    add_instrument(c.obstacles, o, c.disc_top_z, c.clamp_disc_bottom_z);
     const double gap = o.start_gap_m > 0 ? o.start_gap_m : discs ? 0.5 * disc_gap : 2 * o.solver.contact_distance;
     c.initial = model::flat_grid(c.grid, Vec3(0, 0, c.disc_top_z + gap));
     // The seeded start: a waviness of the hanging part, a function of the rest position alone
@@ -127,9 +145,10 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
 CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress)
 {
     const CusickSetup setup = make_cusick_setup(options);
-    const model::ClothModel model = model::make_cloth_model(fabric, setup.grid, options.model, setup.cut.active, setup.cut.area);
+    model::ClothModel model = model::make_cloth_model(fabric, setup.grid, options.model, setup.cut.active, setup.cut.area);
     sim::Problem problem;
     problem.model = &model;
+    if (model.has_slip()) problem.slip = &model;  // friction: the states evolve with the drape
     problem.obstacles = &setup.obstacles;
     problem.initial = setup.initial;
     problem.pinned = setup.clamped;
@@ -139,7 +158,63 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     if (options.perturbation_m > 0) solver.perturbation = 0;
 
     CusickResult r;
-    r.drape = sim::drape(problem, solver, progress);
+    // One stage: a drape to rest from the state reached, the slip states carried on; steps,
+    // iterations and times summed over the stages.
+    sim::Result total;
+    Positions x = setup.initial;
+    r.stages = 0;
+    const auto stage = [&](const geometry::ObstacleSet& obstacles) {
+        problem.obstacles = &obstacles;
+        problem.initial = x;
+        if (r.stages > 0) solver.perturbation = 0;  // the start's perturbation once
+        sim::Result s = sim::drape(problem, solver, progress);
+        total.steps += s.steps;
+        total.iterations += s.iterations;
+        total.factorizations += s.factorizations;
+        total.cg_iterations += s.cg_iterations;
+        total.softened_steps += s.softened_steps;
+        total.simulated_time += s.simulated_time;
+        total.wall_time += s.wall_time;
+        x = s.x;
+        s.steps = total.steps;
+        s.iterations = total.iterations;
+        s.factorizations = total.factorizations;
+        s.cg_iterations = total.cg_iterations;
+        s.softened_steps = total.softened_steps;
+        s.simulated_time = total.simulated_time;
+        s.wall_time = total.wall_time;
+        r.drape = std::move(s);
+        ++r.stages;
+        return !r.drape.interrupted;
+    };
+    bool going = true;
+    if (options.protocol == CusickProtocol::RELEASE) {
+        going = stage(setup.obstacles);
+    } else {
+        // LOWERED: the overhang on a plate lowered in stages, each a drape to rest from the last,
+        // down to where the hem hangs free (R - r_d below the disc's top); the last stage
+        // without the plate: the specimen settles on its own.
+        const double overhang = 0.5 * (options.specimen_diameter_m - options.disc_diameter_m);
+        const double lower_step = lower_step_m(options);
+        const int stages = static_cast<int>(std::ceil(overhang / lower_step - 1e-9));
+        for (int k = 1; k <= stages && going; ++k) {
+            geometry::ObstacleSet obstacles;
+            add_instrument(obstacles, options, setup.disc_top_z, setup.clamp_disc_bottom_z);
+            const double plate_z = setup.disc_top_z - k * lower_step;
+            if (k < stages) obstacles.add(std::make_unique<geometry::Plane>(Vec3(0, 0, plate_z), Vec3::UnitZ(), options.specimen_diameter_m));
+            going = stage(obstacles);
+        }
+    }
+    // The shake, quasi-static: in the clamp's frame the disc's vertical acceleration a adds to
+    // gravity, so each half cycle is a drape to rest at g (1 +- amplitude); then at g.
+    const double g = model.gravity();
+    for (int c = 0; c < options.shakes && going; ++c)
+        for (double sign : {1.0, -1.0}) {
+            model.set_gravity(g * (1 + sign * options.shake_amplitude));
+            if (going) going = stage(setup.obstacles);
+        }
+    model.set_gravity(g);
+    if (options.shakes > 0 && going) stage(setup.obstacles);
     r.surface = model::cut_surface(setup.grid, setup.cut, r.drape.x, &r.surface_uv);
     r.spacing_m = setup.grid.sigma;
     r.specimen_area_m2 = setup.cut.total_area;

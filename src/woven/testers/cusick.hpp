@@ -60,6 +60,27 @@ inline constexpr double kCusickDiscsPinnedInset = 1.5;
 /// by about d^/130).
 inline constexpr double kCusickDiscsGap = 1.0;
 
+/// The path the specimen takes to its drape (with friction inside the weave, model::Hysteresis::
+/// FRICTION, the drape depends on it).
+enum class CusickProtocol {
+    /// The clamped specimen starts flat (start_gap_m above the disc, the seeded waviness) and is
+    /// released at rest: the overhang falls and swings in the solver's viscous medium, some bends
+    /// loading past their rest and unloading, to rest. Today's (and the default).
+    RELEASE,
+    /// The clamped specimen starts flat with its overhang resting on a horizontal plate, which is
+    /// lowered in stages of lower_step_m (each drape to rest, the friction state carried on)
+    /// until the hem hangs free, then the plate is taken away and the specimen settles: a
+    /// quasi-static, monotonic loading of the bends, as a specimen lowered by hand onto the
+    /// disc. The lab's paths lie between the two.
+    LOWERED,
+};
+
+/// "release" or "lowered".
+const char* protocol_name(CusickProtocol protocol);
+
+/// LOWERED: the smallest automatic plate step (m), 2 spacings at the default spacing.
+inline constexpr double kCusickLowerStep = 0.01;
+
 /// The instrument's settings (SI).
 struct CusickOptions {
     double specimen_diameter_m = 0.30;  ///< the standard's; 0.24 and 0.36 m are also used
@@ -82,7 +103,16 @@ struct CusickOptions {
     /// at the edge), so a seed is the same start at every spacing; it replaces the solver's
     /// per-particle perturbation. 0: none (the solver's perturbation then applies).
     double perturbation_m = 0.001;
-    model::ModelOptions model;
+    CusickProtocol protocol = CusickProtocol::RELEASE;
+    /// LOWERED: the plate's step (m), from the spacing to the overhang; 0: lower_step_m(options).
+    double lower_step_m = 0;
+    /// After the protocol: this many cycles of a quasi-static vertical shake of the disc, each
+    /// a drape to rest at gravity g (1 + shake_amplitude) and one at g (1 - shake_amplitude)
+    /// (the clamp's frame, where the disc's acceleration adds to gravity), then a drape to rest
+    /// at g. 0: none. With friction the cycles work the bends back and forth inside their loops.
+    int shakes = 0;
+    double shake_amplitude = 0.5;  ///< the disc's peak acceleration over g, in (0, 1)
+    model::ModelOptions model;  ///< its hysteresis: LOADING_BRANCH (default) or FRICTION (the fast solver's)
     sim::SolverOptions solver;  ///< its seed and perturbation make the run-to-run variation
     analysis::DrapeShadowOptions shadow;
 };
@@ -107,19 +137,25 @@ struct CusickSetup {
 /// least 2 particles across it and 8 across the specimen).
 CusickSetup make_cusick_setup(const CusickOptions& options);
 
+/// LOWERED: the plate's step in force (m): options.lower_step_m, or for 0 the larger of
+/// kCusickLowerStep and two spacings, at most the overhang (6 stages on the standard's 30 / 18 cm).
+double lower_step_m(const CusickOptions& options);
+
 /// One drape test.
 struct CusickResult {
-    sim::Result drape;
+    sim::Result drape;  ///< LOWERED: the last stage's, with steps, iterations and times summed over the stages
     geometry::TriangleMesh surface;  ///< the draped specimen (model::cut_surface)
     std::vector<Vec2> surface_uv;    ///< per surface vertex: rest position in particle spacings (u weft, v warp)
     analysis::DrapeShadow shadow;    ///< DC and nodes, angles from the warp (+y)
     double spacing_m = 0;
     double specimen_area_m2 = 0;  ///< W x this is the specimen's mass
     int particles = 0;            ///< kept particles
+    int stages = 1;               ///< drapes run: LOWERED the plate's stages and the settling, and 2 per shake and 1 after
 };
 
-/// Drapes the specimen to rest (sim::drape with the residual test of `woven drape`) and reads
-/// its shadow.
+/// Drapes the specimen to rest by options.protocol (sim::drape with the residual test of `woven
+/// drape`; with friction the slip states carried through every step and stage) and reads its
+/// shadow.
 CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress = {});
 
 }  // namespace woven::testers
