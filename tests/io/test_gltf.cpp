@@ -154,7 +154,7 @@ TEST(Gltf, CheckGlbReadsWhatTheWriterWritesAndRefusesTheRest)
 {
     const std::string glb = io::scene_glb({io::cloth_gltf_mesh(grid(), kNu, kNv, fields())});
     EXPECT_EQ(io::check_glb(glb, "d/drape.glb"), 1);
-    for (const std::string bad : {glb.substr(0, glb.size() / 2), std::string("glTF"), std::string()}) {
+    for (const std::string& bad : {glb.substr(0, glb.size() / 2), std::string("glTF"), std::string()}) {
         try {
             io::check_glb(bad, "d/drape.glb");
             ADD_FAILURE() << "accepted " << bad.size() << " bytes";

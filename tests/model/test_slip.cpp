@@ -57,7 +57,9 @@ TEST(SlipLaw, ElementDerivativesMatchCentralDifferences)
             const Scalar3 c = law.element(e, q, s), p = law.element(e, q + h, s), m = law.element(e, q - h, s);
             EXPECT_NEAR((p.value - m.value) / (2 * h), c.d1, 1e-7 * (1 + std::abs(c.d1))) << "q " << q << " s " << s;
             // d2 is piecewise constant: skip the few points whose difference straddles a kink.
-            if (std::abs(p.d2 - m.d2) == 0) EXPECT_NEAR((p.d1 - m.d1) / (2 * h), c.d2, 1e-6 * (1 + std::abs(c.d2)));
+            if (std::abs(p.d2 - m.d2) == 0) {
+                EXPECT_NEAR((p.d1 - m.d1) / (2 * h), c.d2, 1e-6 * (1 + std::abs(c.d2)));
+            }
         }
     }
 }
