@@ -362,7 +362,7 @@ TEST_F(Reliability, EveryBadInputClassKeepsTheDocumentedForm)
     };
     const std::vector<Case> cases = {
         {"toml syntax", "s.toml", "a = = 1\n", "drape s.toml"},
-        {"toml limits", "s.toml", "[" + std::string(200, 'a') + std::string(60, '.') + "b]\n", "drape s.toml"},
+        {"toml limits", "s.toml", std::string("[").append(200, 'a').append(60, '.').append("b]\n"), "drape s.toml"},
         {"empty scene", "s.toml", "\n", "drape s.toml"},
         {"unknown obstacle", "s.toml", kTinyScene + "[[obstacle]]\ntype = \"cone\"\n", "drape s.toml"},
         {"missing key", "s.toml", kTinyScene + "[[obstacle]]\ntype = \"sphere\"\nradius_m = 1\n", "drape s.toml"},

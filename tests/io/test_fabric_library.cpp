@@ -79,7 +79,11 @@ TEST(FabricLibrary, SilkHasTheShortestBendingLengthAndDenimTheLongest)
     for (const auto& name : builtin_fabric_names()) {
         SCOPED_TRACE(name);
         const double c = bending_length_cm(find_fabric(name));
-        if (name != "silk") EXPECT_GT(c, silk * 1.05);
-        if (name != "denim") EXPECT_LT(c, denim);
+        if (name != "silk") {
+            EXPECT_GT(c, silk * 1.05);
+        }
+        if (name != "denim") {
+            EXPECT_LT(c, denim);
+        }
     }
 }

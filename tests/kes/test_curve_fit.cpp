@@ -142,7 +142,9 @@ TEST(Fit, SigmoidInitialResistanceNeedsMoreSegments)
     // Through the data: within 3 % of max y everywhere, 0.5 % of the value from K = 0.5 on.
     EXPECT_LE(max_fit_error(f, c), 0.03 * y_max(c));
     for (size_t k = 0; k < c.x.size(); ++k)
-        if (c.x[k] >= 0.5) EXPECT_NEAR(f.value(c.x[k]), c.y[k], 0.005 * c.y[k]) << "K = " << c.x[k];
+        if (c.x[k] >= 0.5) {
+            EXPECT_NEAR(f.value(c.x[k]), c.y[k], 0.005 * c.y[k]) << "K = " << c.x[k];
+        }
     const double B = data_slope(c, 0.5, 1.5);
     EXPECT_NEAR(fit_slope(f, 0.5, 1.5), B, 1e-9 * B);
     for (int k = 0; k <= 250; ++k) EXPECT_GE(f.slope(2.5 * k / 250.0), 0.0);
@@ -167,7 +169,9 @@ TEST_P(NonlinearFit, KesSlopeOfAMeasuredStyleCurve)
     const double B = data_slope(c, 0.5, 1.5);
     EXPECT_NEAR(fit_slope(f, 0.5, 1.5), B, 1e-9 * B);
     for (size_t k = 0; k < c.x.size(); ++k)
-        if (c.x[k] >= 0.5) EXPECT_NEAR(f.value(c.x[k]), c.y[k], 0.005 * c.y[k]) << "K = " << c.x[k];
+        if (c.x[k] >= 0.5) {
+            EXPECT_NEAR(f.value(c.x[k]), c.y[k], 0.005 * c.y[k]) << "K = " << c.x[k];
+        }
     EXPECT_LE(max_fit_error(f, c), 0.02 * y_max(c));
     for (int k = 0; k <= 250; ++k) EXPECT_GE(f.slope(2.5 * k / 250.0), 0.0);
 }
