@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <string>
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -95,6 +97,11 @@ TEST_F(Check, BadFilesGetTheCommandsOwnMessages)
     EXPECT_EQ(err[1], "woven: error: nothere.toml: file: no such file or folder");
     EXPECT_EQ(err[2], "woven: error: notes.txt: file: expected a fabric or scene .toml, an .obj mesh or an output folder");
     EXPECT_NE(c5.out.find("silk.toml: ok (fabric silk)"), std::string::npos) << c5.out;
+    // A FIFO named like a TOML file: refused as the commands refuse it, not read (a read would block).
+    ASSERT_EQ(::mkfifo((dir_ / "pipe.toml").c_str(), 0600), 0);
+    const Outcome c6 = woven("check pipe.toml");
+    EXPECT_EQ(c6.code, 2);
+    EXPECT_EQ(c6.err, "woven: error: pipe.toml: file: is not a regular file (a device, FIFO or socket); expected a fabric or scene .toml file\n");
 }
 
 TEST_F(Check, AFinishedFolderPassesAndEachDamageIsFound)

@@ -72,7 +72,7 @@ TEST_F(KesHysteresisCli, LoadingBranchRunsNoLoopAndBadValueExits2)
     EXPECT_TRUE(fs::exists(dir_ / "f" / "bending_loop.png"));
     r = woven("kes-test silk --hysteresis elastic");
     EXPECT_EQ(r.code, 2);
-    EXPECT_EQ(r.err, "woven: error: command line: --hysteresis: expected friction or loading-branch, got 'elastic'\n");
+    EXPECT_EQ(r.err, "woven: error: command line: --hysteresis: expected loading-branch or friction, got 'elastic'\n");
 }
 
 }  // namespace

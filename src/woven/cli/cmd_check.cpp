@@ -26,9 +26,11 @@
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/gltf_file.hpp"
+#include "woven/io/input_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/io/sha256.hpp"
+#include "woven/io/toml_reader.hpp"
 #include "woven/kes/fit.hpp"
 
 namespace woven::cli {
@@ -42,16 +44,6 @@ struct Findings {
     std::vector<std::string> problems;
     void problem(const std::string& line) { problems.push_back(line); }
 };
-
-std::optional<std::string> read_text(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream s;
-    s << in.rdbuf();
-    if (in.bad()) return std::nullopt;
-    return s.str();
-}
 
 /// A scene file names a [cloth] or [[obstacle]] table (docs/SCENE-FORMAT.md); a fabric file
 /// neither. A plain scan of the lines' starts (no regex: std::regex recurses per character).
@@ -80,8 +72,10 @@ void fit(const kes::FabricData& fabric, const std::string& name_or_path)
 
 std::string check_toml(const std::string& path, std::vector<std::string>& warnings)
 {
-    const auto text = read_text(path);
-    if (text && looks_like_scene(*text)) {
+    // Read as the commands read their input (bounded, regular files only: a FIFO named x.toml
+    // does not block check), then given to the scene or the fabric reader.
+    const std::string text = io::read_input_file(path, io::kMaxTomlBytes, {"TOML file", "a fabric or scene .toml file"});
+    if (looks_like_scene(text)) {
         const io::SceneSpec scene = io::load_scene(path, &warnings);
         if (scene.cloth.is_cut()) (void)scene.cloth.cut(scene.source_path);  // the outline keeps a cloth
         const kes::FabricData fabric = io::find_fabric(scene.fabric, &warnings);
@@ -123,7 +117,7 @@ void check_listed(const fs::path& dir, const std::string& manifest, const std::s
         f.problem(shown + ": file: listed in " + manifest + " but missing");
         return;
     }
-    const auto data = read_text(dir / name);
+    const auto data = read_output_file((dir / name).string());
     if (!data) {
         f.problem(shown + ": file: cannot read");
         return;
@@ -161,7 +155,7 @@ std::string check_folder(const fs::path& dir, Findings& f)
         return {};
     }
     const std::string manifest = (dir / name).string();
-    const auto text = read_text(dir / name);
+    const auto text = read_output_file((dir / name).string());
     if (!text) {
         f.problem(manifest + ": file: cannot read");
         return {};

@@ -267,9 +267,7 @@ int run_kes_test(const KesTestOptions& options)
     // kes-test shows the loops: friction unless asked otherwise (the model's default is the
     // loading branch).
     mo.hysteresis = model::Hysteresis::FRICTION;
-    if (options.hysteresis)
-        mo.hysteresis = parse_choice(*options.hysteresis, "--hysteresis", {"friction", "loading-branch"}) == 0 ? model::Hysteresis::FRICTION
-                                                                                                              : model::Hysteresis::LOADING_BRANCH;
+    if (options.hysteresis) mo.hysteresis = parse_hysteresis(*options.hysteresis, "--hysteresis");
     if (options.out) parse_path(*options.out, "--out");
     std::vector<std::string> warnings;
     const kes::FabricData fabric = command_fabric(options.fabric, options.given_fabric, &warnings);

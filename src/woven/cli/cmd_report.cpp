@@ -57,18 +57,10 @@ struct PointView {
     std::string problem;
 };
 
-std::string read_text_or_empty(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 nlohmann::json read_json(const fs::path& p, const std::string& what)
 {
     try {
-        return nlohmann::json::parse(read_text_or_empty(p));
+        return nlohmann::json::parse(read_output_file(p.string()).value_or(""));
     } catch (const nlohmann::json::exception& e) {
         throw InputError(p.string(), "json", std::string("does not parse as ") + what + " (" + e.what() + ")");
     }
@@ -219,7 +211,7 @@ std::string kes_curves(const PointView& p)
         if (e.path().extension() == ".csv") csvs.push_back(e.path());
     std::sort(csvs.begin(), csvs.end());
     for (const auto& c : csvs) {
-        std::istringstream in(read_text_or_empty(c));
+        std::istringstream in(read_output_file(c.string()).value_or(""));
         std::string line;
         if (!std::getline(in, line)) continue;
         std::vector<std::string> head;
@@ -267,7 +259,7 @@ std::string gallery(const std::vector<PointView>& points)
         for (const auto& n : pngs) {
             if (!n.ends_with(".png")) continue;
             o << "<figure><img alt=\"" << render::html_escape(p.name + " " + n) << "\" src=\"data:image/png;base64,"
-              << render::base64(read_text_or_empty(p.dir / n)) << "\"><figcaption>" << render::html_escape(p.name + ": " + n) << "</figcaption></figure>";
+              << render::base64(read_output_file((p.dir / n).string()).value_or("")) << "\"><figcaption>" << render::html_escape(p.name + ": " + n) << "</figcaption></figure>";
         }
     }
     o << "</div>";
@@ -443,8 +435,8 @@ int run_report(const ReportOptions& o)
     if (!meshes.empty()) {
         const fs::path lib(WOVEN_THREE_JS_DIR);
         if (fs::exists(lib / "three.min.js") && fs::exists(lib / "examples/js/controls/OrbitControls.js")) {
-            three = read_text_or_empty(lib / "three.min.js");
-            orbit = read_text_or_empty(lib / "examples/js/controls/OrbitControls.js");
+            three = read_output_file((lib / "three.min.js").string()).value_or("");
+            orbit = read_output_file((lib / "examples/js/controls/OrbitControls.js").string()).value_or("");
         } else {
             print_warnings({std::string(WOVEN_THREE_JS_DIR) + ": three.min.js not found (Debian package libjs-three); the page has no 3-D view"});
         }

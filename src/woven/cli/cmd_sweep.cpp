@@ -84,15 +84,6 @@ std::string host_name()
     return s;
 }
 
-std::optional<std::string> read_optional_text(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 /// Writes `text` to `path` through a unique temporary in the same folder and a rename.
 void write_atomic(const fs::path& path, const std::string& text)
 {
@@ -127,11 +118,10 @@ nlohmann::json point_signature(const io::SweepPoint& p)
     return s;
 }
 
-const char* const kManifestNames[] = {"report.json", "cusick.json", "kes-report.json"};
 
 std::optional<nlohmann::json> read_json(const fs::path& p)
 {
-    const auto t = read_optional_text(p);
+    const auto t = read_output_file(p.string());
     if (!t) return std::nullopt;
     try {
         return nlohmann::json::parse(*t);
@@ -142,7 +132,7 @@ std::optional<nlohmann::json> read_json(const fs::path& p)
 
 std::optional<nlohmann::json> read_manifest(const fs::path& dir)
 {
-    for (const char* m : kManifestNames)
+    for (const char* m : kManifests)
         if (fs::exists(dir / m)) return read_json(dir / m);
     return std::nullopt;
 }
@@ -301,7 +291,7 @@ struct Running {
 /// The last `lines` lines of a file (a failed point's log).
 std::string tail_lines(const fs::path& p, int lines)
 {
-    const auto t = read_optional_text(p);
+    const auto t = read_output_file(p.string());
     if (!t) return {};
     std::size_t at = t->size();
     for (int k = 0; k <= lines && at > 0; ++k) {

@@ -143,6 +143,10 @@ std::vector<std::string> check_output_folder(const std::string& dir, std::string
 
 /// `s` with its control characters written as \xNN, so that a message stays one line (main.cpp).
 std::string one_line(const std::string& s);
+/// A whole file the commands wrote (an output folder's manifest, log, picture) or an installed
+/// resource (three.js); nullopt when it cannot be opened or read. A user's input files go through
+/// io::read_input_file (bounded, regular files only).
+std::optional<std::string> read_output_file(const std::string& path);
 
 /// Prints "woven: warning: <w>" on stderr for each warning.
 void print_warnings(const std::vector<std::string>& warnings);

@@ -2,7 +2,9 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
@@ -11,6 +13,16 @@
 #include "woven/io/fabric_file.hpp"
 
 namespace woven::cli {
+
+std::optional<std::string> read_output_file(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in.bad()) return std::nullopt;
+    return s.str();
+}
 
 /// One line: control characters (a newline from an input file) shown as \xNN.
 std::string one_line(const std::string& s)

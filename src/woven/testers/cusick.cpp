@@ -158,9 +158,8 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     if (options.perturbation_m > 0) solver.perturbation = 0;
 
     CusickResult r;
-    // One stage: a drape to rest from the state reached, the slip states carried on; steps,
-    // iterations and times summed over the stages.
-    sim::Result total;
+    // One stage: a drape to rest from the state reached, the slip states carried on; r.drape
+    // holds the last stage's state with steps, iterations and times summed over the stages.
     Positions x = setup.initial;
     r.stages = 0;
     const auto stage = [&](const geometry::ObstacleSet& obstacles) {
@@ -168,21 +167,16 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
         problem.initial = x;
         if (r.stages > 0) solver.perturbation = 0;  // the start's perturbation once
         sim::Result s = sim::drape(problem, solver, progress);
-        total.steps += s.steps;
-        total.iterations += s.iterations;
-        total.factorizations += s.factorizations;
-        total.cg_iterations += s.cg_iterations;
-        total.softened_steps += s.softened_steps;
-        total.simulated_time += s.simulated_time;
-        total.wall_time += s.wall_time;
+        if (r.stages > 0) {
+            s.steps += r.drape.steps;
+            s.iterations += r.drape.iterations;
+            s.factorizations += r.drape.factorizations;
+            s.cg_iterations += r.drape.cg_iterations;
+            s.softened_steps += r.drape.softened_steps;
+            s.simulated_time += r.drape.simulated_time;
+            s.wall_time += r.drape.wall_time;
+        }
         x = s.x;
-        s.steps = total.steps;
-        s.iterations = total.iterations;
-        s.factorizations = total.factorizations;
-        s.cg_iterations = total.cg_iterations;
-        s.softened_steps = total.softened_steps;
-        s.simulated_time = total.simulated_time;
-        s.wall_time = total.wall_time;
         r.drape = std::move(s);
         ++r.stages;
         return !r.drape.interrupted;
