@@ -142,7 +142,8 @@ TEST_F(Check, AFinishedFolderPassesAndEachDamageIsFound)
     fs::remove(dir_ / "res" / "report.json");
     const Outcome none = woven("check res");
     EXPECT_EQ(none.code, 2);
-    EXPECT_EQ(none.err, "woven: error: res: manifest: no report.json, cusick.json or kes-report.json (not a finished woven output folder)\n");
+    EXPECT_EQ(none.err, "woven: error: res: manifest: no report.json, cusick.json, kes-report.json, sweep.json or an experiment's "
+              "cube_results.json, corner_map.json or figure1.json (not a finished woven output folder)\n");
 }
 
 TEST_F(Check, AGlbThatDoesNotLoadIsFoundEvenWithItsChecksumInTheManifest)

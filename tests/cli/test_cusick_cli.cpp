@@ -86,15 +86,15 @@ TEST_F(CusickCli, ASmallSpecimenWritesEveryOutput)
     // One output set: cusick.json names every file with its size and SHA-256, and nothing else
     // (no temporaries) is left in the directory.
     ASSERT_TRUE(j.contains("files"));
-    EXPECT_EQ(j.at("files").size(), 3u);
-    for (const char* f : {"shadow-seed1.png", "shadow-seed2.png", "cusick.obj"}) {
+    EXPECT_EQ(j.at("files").size(), 4u);
+    for (const char* f : {"shadow-seed1.png", "shadow-seed2.png", "cusick.obj", "cusick.glb"}) {
         ASSERT_TRUE(j.at("files").contains(f)) << f;
         EXPECT_EQ(j.at("files").at(f).at("bytes").get<std::uint64_t>(), fs::file_size(dir_ / "o" / f)) << f;
         EXPECT_EQ(j.at("files").at(f).at("sha256").get<std::string>().size(), 64u) << f;
     }
     int entries = 0;
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_ / "o")) ++entries;
-    EXPECT_EQ(entries, 4);
+    EXPECT_EQ(entries, 5);
 }
 
 TEST_F(CusickCli, TheDiscsClampIsWrittenInTheReport)

@@ -54,13 +54,20 @@ TEST_F(ExperimentSweep, CubeIsADirectSweepOfItsPlan)
 {
     const auto e = woven("experiment cube --grid 7 --seeds 2 --out E --sweep S");
     ASSERT_EQ(e.code, 0) << e.err;
-    EXPECT_THAT(e.out, HasSubstr("6 points; 0 done already, 6 to run"));
+    EXPECT_THAT(e.err, HasSubstr("6 points; 0 done already, 6 to run"));
     EXPECT_EQ(count(e.err, "woven: experiment: cube, "), 6) << e.err;
     EXPECT_THAT(e.err, HasSubstr("woven: experiment: cube, wool, seed 2 ...\n"));
     const std::vector<std::string> names = {"fabric-cotton_seed-1", "fabric-cotton_seed-2", "fabric-polyester_cotton_seed-1",
                                             "fabric-polyester_cotton_seed-2", "fabric-wool_seed-1", "fabric-wool_seed-2"};
     ASSERT_EQ(point_folders(dir_ / "S"), names);
     EXPECT_EQ(read_json(dir_ / "S" / "sweep.json")["done"], 6);
+    // `woven check` takes the experiment's folder and its sweep folder, as `woven report` does.
+    const auto c = woven("check E S");
+    ASSERT_EQ(c.code, 0) << c.err;
+    EXPECT_THAT(c.out, HasSubstr("E: ok (output of "));
+    EXPECT_THAT(c.out, HasSubstr("cube_results.json)\n"));
+    EXPECT_THAT(c.out, HasSubstr("S: ok (sweep "));
+    EXPECT_THAT(c.out, HasSubstr("6 points: 6 done and verified, 0 not done)\n"));
 
     const auto d = woven("sweep S/plan.toml --out D");
     ASSERT_EQ(d.code, 0) << d.err;
@@ -150,7 +157,7 @@ TEST_F(ExperimentSweep, MapInTwoShardsThenResumed)
 {
     const auto a = woven("experiment map --map-grid 2x2 --grid 7 --out O --sweep S --shard 0/2");
     ASSERT_EQ(a.code, 0) << a.err;
-    EXPECT_THAT(a.out, HasSubstr("shard 0/2 (--shard): 2 here"));
+    EXPECT_THAT(a.err, HasSubstr("shard 0/2 (--shard): 2 here"));
     EXPECT_THAT(a.out, HasSubstr("this shard's drapes are done, 2 of 4 in all"));
     EXPECT_EQ(point_folders(dir_ / "S").size(), 2u);
     EXPECT_FALSE(fs::exists(dir_ / "O" / "corner_map.json"));
@@ -178,7 +185,7 @@ TEST_F(ExperimentSweep, MapInTwoShardsThenResumed)
     const std::string png = slurp(dir_ / "O" / "corner_map.png"), md = slurp(dir_ / "O" / "corner_map.md");
     const auto again = woven("experiment map --map-grid 2x2 --grid 7 --out O --sweep S --jobs 2");
     ASSERT_EQ(again.code, 0) << again.err;
-    EXPECT_THAT(again.out, HasSubstr("4 points; 4 done already, 0 to run"));
+    EXPECT_THAT(again.err, HasSubstr("4 points; 4 done already, 0 to run"));
     EXPECT_THAT(again.err, Not(HasSubstr("woven: experiment:")));
     EXPECT_EQ(read_json(dir_ / "S" / points[0] / "point.json")["run_id"], run_id);
     EXPECT_EQ(slurp(dir_ / "O" / "corner_map.png"), png);
@@ -188,7 +195,7 @@ TEST_F(ExperimentSweep, MapInTwoShardsThenResumed)
     // A third bending length (3 cm): the four drapes are kept, two run.
     const auto more = woven("experiment map --map-grid 2x3 --grid 7 --out O3 --sweep S");
     ASSERT_EQ(more.code, 0) << more.err;
-    EXPECT_THAT(more.out, HasSubstr("6 points; 4 done already, 2 to run"));
+    EXPECT_THAT(more.err, HasSubstr("6 points; 4 done already, 2 to run"));
     EXPECT_EQ(count(more.err, "woven: experiment: cube, ratio "), 2) << more.err;
     EXPECT_EQ(read_json(dir_ / "O3" / "corner_map.json")["cells"].size(), 6u);
 }

@@ -80,8 +80,11 @@ def test_single(woven, tmp):
     open(plan, "w").write(plan_text("[1, 2, 3]"))
     sweep = os.path.join(tmp, "single")
     p = run([woven, "sweep", plan, "--out", sweep, "--jobs", "2"], check_rc=0)
-    names = sorted(ran_points(p.stdout))
+    names = sorted(ran_points(p.stderr))
     check(len(names) == 6 and len(set(names)) == 6, f"6 points each run once: {names}")
+    # Progress on stderr, the summary alone on stdout; the thread count the points ran (the plan's).
+    check("ran in" not in p.stdout and p.stdout.startswith("ran 6, failed 0"), f"stdout: the summary only: {p.stdout}")
+    check("2 jobs of 1 thread (the plan's --threads)" in p.stderr, f"the points' thread count: {p.stderr}")
     rows = table(sweep)
     check([r["status"] for r in rows] == ["done"] * 6, "merged table: 6 rows done")
     check(rows[0]["point"] == "fabric-cotton_seed-1" and rows[5]["point"] == "fabric-wool_seed-3", "rows in plan order")
@@ -98,7 +101,7 @@ def test_single(woven, tmp):
     ids = run_ids(sweep)
     # Resume: nothing runs again.
     p = run([woven, "sweep", plan, "--out", sweep], check_rc=0)
-    check(ran_points(p.stdout) == [] and "6 done already, 0 to run" in p.stdout, "resume: nothing reruns")
+    check(ran_points(p.stderr) == [] and "6 done already, 0 to run" in p.stderr, "resume: nothing reruns")
     check(run_ids(sweep) == ids, "resume: the folders are untouched")
     # A point whose file changed, and one whose folder lost its manifest, run again; only those.
     obj = os.path.join(sweep, "fabric-cotton_seed-2", "cusick.obj")
@@ -107,14 +110,14 @@ def test_single(woven, tmp):
         f.write(b"#")
     os.remove(os.path.join(sweep, "fabric-wool_seed-3", "cusick.json"))
     p = run([woven, "sweep", plan, "--out", sweep], check_rc=0)
-    check(sorted(ran_points(p.stdout)) == ["fabric-cotton_seed-2", "fabric-wool_seed-3"], f"only the broken points rerun: {p.stdout}")
+    check(sorted(ran_points(p.stderr)) == ["fabric-cotton_seed-2", "fabric-wool_seed-3"], f"only the broken points rerun: {p.stderr}")
     check("sha256" in p.stderr, "the rerun says why (the changed file's hash)")
     ids2 = run_ids(sweep)
     check(all(ids2[n] == ids[n] for n in ids if n not in ("fabric-cotton_seed-2", "fabric-wool_seed-3")), "the others kept")
     # A changed plan (another spacing) is another command line: every point runs again.
     open(plan, "w").write(plan_text("[1]").replace("spacing_cm = 3", "spacing_cm = 2.5"))
     p = run([woven, "sweep", plan, "--out", sweep], check_rc=0)
-    check(len(ran_points(p.stdout)) == 2, "a changed option reruns the points")
+    check(len(ran_points(p.stderr)) == 2, "a changed option reruns the points")
     # A failing point (a disc larger than the specimen): recorded, exit 1, the others done; the
     # merged table says failed; the next run tries it again.
     open(plan, "w").write(plan_text("[1]", 'disc_cm = [18, 40]'))
@@ -126,7 +129,7 @@ def test_single(woven, tmp):
     rec = json.load(open(os.path.join(failing, "failed", "fabric-cotton_seed-1_disc_cm-40.json")))
     check(rec["exit_code"] == 2 and "disc" in rec["log_tail"], f"the failure record: {rec}")
     p = run([woven, "sweep", plan, "--out", failing], check_rc=1)
-    check(sorted(ran_points(p.stdout)) == [] and p.stdout.count("FAILED") == 2, "failed points are tried again, the others not")
+    check(sorted(ran_points(p.stderr)) == [] and p.stderr.count("FAILED") == 2, "failed points are tried again, the others not")
     # --merge is idempotent; the files are whole.
     a = open(os.path.join(failing, "sweep.csv")).read()
     run([woven, "sweep", plan, "--out", failing, "--merge"], check_rc=0)
@@ -140,9 +143,9 @@ def test_single(woven, tmp):
     # srun inside an array task sets a PMI world of one: the array's split still holds.
     env = dict(os.environ, SLURM_ARRAY_TASK_ID="8", SLURM_ARRAY_TASK_COUNT="2", SLURM_ARRAY_TASK_MIN="7", PMI_RANK="0", PMI_SIZE="1")
     p1 = run([woven, "sweep", plan, "--out", sh], env=env, check_rc=0)
-    check(sorted(ran_points(p0.stdout)) == ["fabric-cotton_seed-1", "fabric-wool_seed-1"], f"shard 0/2: {p0.stdout}")
-    check(sorted(ran_points(p1.stdout)) == ["fabric-cotton_seed-2", "fabric-wool_seed-2"] and "(Slurm array)" in p1.stdout,
-          f"Slurm task 8 of 7-8: {p1.stdout}")
+    check(sorted(ran_points(p0.stderr)) == ["fabric-cotton_seed-1", "fabric-wool_seed-1"], f"shard 0/2: {p0.stderr}")
+    check(sorted(ran_points(p1.stderr)) == ["fabric-cotton_seed-2", "fabric-wool_seed-2"] and "(Slurm array)" in p1.stderr,
+          f"Slurm task 8 of 7-8: {p1.stderr}")
     check([r["status"] for r in table(sh)] == ["done"] * 4, "the last shard's merge is complete")
     bad = run([woven, "sweep", plan, "--out", sh, "--shard", "2/2"], check_rc=2)
     check(bad.stderr.startswith("woven: error: command line: --shard: expected I/N") and bad.stderr.count("\n") == 1, bad.stderr)
@@ -181,9 +184,9 @@ def test_mpi(woven, tmp):
     sweep = os.path.join(tmp, "mpi")
     cmd, env = mpirun(woven, plan, sweep)
     p = run(cmd, env=env, check_rc=0)
-    names = ran_points(p.stdout)
+    names = ran_points(p.stderr)
     check(len(names) == 6 and len(set(names)) == 6, f"mpirun -n 2: 6 points each run once: {sorted(names)}")
-    check("shard 0/2 (Open MPI): 3 here" in p.stdout and "shard 1/2 (Open MPI): 3 here" in p.stdout, "two ranks of 3 points")
+    check("shard 0/2 (Open MPI): 3 here" in p.stderr and "shard 1/2 (Open MPI): 3 here" in p.stderr, "two ranks of 3 points")
     check([r["status"] for r in table(sweep)] == ["done"] * 6, "the merged table is complete")
     # A rank killed mid-run, then the same command again.
     for sig in (signal.SIGTERM, signal.SIGKILL):
@@ -202,7 +205,7 @@ def test_mpi(woven, tmp):
         before = run_ids(sweep)
         if victim:
             os.kill(victim, sig)
-        out1, _ = job.communicate(timeout=120)
+        _, out1 = job.communicate(timeout=120)
         check(job.returncode != 0, f"{sig.name}: the killed job does not succeed")
         first = run_ids(sweep)
         check(len(first) < 6, f"{sig.name}: killed before the end ({len(first)} of 6 done)")
@@ -211,7 +214,7 @@ def test_mpi(woven, tmp):
         for n in first:
             check(run([woven, "check", os.path.join(sweep, n)]).returncode == 0, f"{sig.name}: {n} verifies after the kill")
         p = run(cmd, env=env, check_rc=0)
-        again = ran_points(p.stdout)
+        again = ran_points(p.stderr)
         missing = sorted(set(table(sweep)[i]["point"] for i in range(6)) - set(first))
         check(sorted(again) == missing, f"{sig.name}: the rerun ran exactly the missing points: {sorted(again)} vs {missing}")
         after = run_ids(sweep)

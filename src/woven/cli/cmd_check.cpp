@@ -4,10 +4,12 @@
 //   *.obj   a mesh, read by the obstacle reader;
 //   a folder  a finished output set: its manifest (report.json, cusick.json or kes-report.json)
 //           parses, every file it lists is there with its size and SHA-256, its numbers are
-//           finite, and its OBJ meshes read.
+//           finite, and its OBJ meshes read; a sweep folder: every point listed as done
+//           verifies; an experiment's folder: each of its sets verifies.
 // One line per problem on stderr ("woven: error: ..."), the readers' warnings as the commands
 // print them, one "<path>: ok (...)" line per sound argument on stdout; exit 0 when all are
 // sound, 2 otherwise.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -141,9 +143,13 @@ void check_listed(const fs::path& dir, const std::string& manifest, const std::s
     }
 }
 
+/// The experiments' manifests (cmd_experiment.cpp); the three may share a folder.
+constexpr const char* kExperimentManifests[] = {"cube_results.json", "corner_map.json", "figure1.json"};
+
+std::string check_set(const fs::path& dir, const std::string& name, Findings& f);
+
 std::string check_folder(const fs::path& dir, Findings& f)
 {
-    const std::size_t before = f.problems.size();
     std::string name;
     for (const char* m : kManifests)
         if (fs::exists(dir / m)) {
@@ -154,6 +160,80 @@ std::string check_folder(const fs::path& dir, Findings& f)
         f.problem(dir.string() + ": manifest: no report.json, cusick.json or kes-report.json (not a finished woven output folder)");
         return {};
     }
+    return check_set(dir, name, f);
+}
+
+/// A sweep folder (sweep.json, `woven sweep`): the merged table parses and every point it lists
+/// as done verifies as an output folder; failed and missing points are counted, not problems (a
+/// sweep may be unfinished).
+std::string check_sweep(const fs::path& dir, Findings& f)
+{
+    const std::size_t before = f.problems.size();
+    const std::string manifest = (dir / "sweep.json").string();
+    const auto text = read_output_file(manifest);
+    if (!text) {
+        f.problem(manifest + ": file: cannot read");
+        return {};
+    }
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(*text);
+    } catch (const nlohmann::json::exception& e) {
+        f.problem(manifest + ": json: does not parse (" + e.what() + ")");
+        return {};
+    }
+    if (!j.is_object() || !j.contains("rows") || !j["rows"].is_array() || !j.contains("command") || !j["command"].is_string()) {
+        f.problem(manifest + ": rows: expected the merged table of `woven sweep` (command, axes, rows)");
+        return {};
+    }
+    std::size_t done = 0, other = 0;
+    for (const auto& r : j["rows"]) {
+        const std::string point = r.is_object() ? r.value("point", std::string()) : std::string();
+        if (point.empty() || point.find('/') != std::string::npos || point[0] == '.') {
+            f.problem(manifest + ": rows: expected point folder names, got '" + point + "'");
+            continue;
+        }
+        if (r.value("status", std::string()) != "done") {
+            ++other;
+            continue;
+        }
+        ++done;
+        check_folder(dir / point, f);
+    }
+    if (f.problems.size() != before) return {};
+    return "sweep " + j.value("name", std::string()) + " of " + j["command"].get<std::string>() + ", " + std::to_string(done + other) +
+           " points: " + std::to_string(done) + " done and verified, " + std::to_string(other) + " not done";
+}
+
+/// An experiment's folder: each of the experiments' sets there verifies.
+std::string check_experiment(const fs::path& dir, Findings& f)
+{
+    std::string what;
+    for (const char* m : kExperimentManifests) {
+        if (!fs::exists(dir / m)) continue;
+        const std::string w = check_set(dir, m, f);
+        if (!w.empty()) what += (what.empty() ? "" : "; ") + w;
+    }
+    return what;
+}
+
+/// A folder as `woven check` takes it: a sweep, an experiment's figures or one output set.
+std::string check_any_folder(const fs::path& dir, Findings& f)
+{
+    if (fs::exists(dir / "sweep.json")) return check_sweep(dir, f);
+    for (const char* m : kManifests)
+        if (fs::exists(dir / m)) return check_folder(dir, f);
+    for (const char* m : kExperimentManifests)
+        if (fs::exists(dir / m)) return check_experiment(dir, f);
+    f.problem(dir.string() + ": manifest: no report.json, cusick.json, kes-report.json, sweep.json or an experiment's "
+              "cube_results.json, corner_map.json or figure1.json (not a finished woven output folder)");
+    return {};
+}
+
+/// One set: its manifest `name` in `dir` lists every file with its size and SHA-256.
+std::string check_set(const fs::path& dir, const std::string& name, Findings& f)
+{
+    const std::size_t before = f.problems.size();
     const std::string manifest = (dir / name).string();
     const auto text = read_output_file((dir / name).string());
     if (!text) {
@@ -190,8 +270,9 @@ std::string check_folder(const fs::path& dir, Findings& f)
     }
     // Numbers: the commands write a non-finite number as null and never publish one (but for
     // `folds`, a drape's analysis over a box, null elsewhere); kes-test reports a test that
-    // could not measure as null, so its report is not held to this.
-    if (name != "kes-report.json") {
+    // could not measure as null, so its report is not held to this, nor the experiments' tables.
+    const bool experiment = std::find(std::begin(kExperimentManifests), std::end(kExperimentManifests), name) != std::end(kExperimentManifests);
+    if (name != "kes-report.json" && !experiment) {
         std::vector<std::string> bad;
         for (auto it = j.begin(); it != j.end(); ++it)
             if (!(it.key() == "folds" && it.value().is_null())) non_finite(it.value(), it.key(), bad);
@@ -200,6 +281,7 @@ std::string check_folder(const fs::path& dir, Findings& f)
     if (f.problems.size() != before) return {};
     const std::string command = j.contains("command") && j["command"].is_string() ? j["command"].get<std::string>()
                                 : name == "cusick.json"                           ? "cusick"
+                                : experiment                                      ? "experiment"
                                                                                   : "drape or fit";
     return "output of " + command + ", " + std::to_string(j.contains("files") ? j["files"].size() : 0) + " files listed in " + name;
 }
@@ -225,7 +307,7 @@ int run_check(const CheckOptions& options)
             std::error_code ec;
             const fs::path p(arg);
             if (fs::is_directory(p, ec)) {
-                what = check_folder(p, f);
+                what = check_any_folder(p, f);
             } else if (!fs::exists(p, ec)) {
                 f.problem(arg + ": file: no such file or folder");
             } else if (p.extension() == ".toml") {
@@ -255,7 +337,9 @@ void add_check_command(CLI::App& app, int& exit_code)
     sub->footer("A .toml file is read as a fabric or a scene (a scene's fabric and mesh files too) by the readers the other "
                 "commands use, with their messages and warnings; an .obj file as an obstacle mesh; a folder as a finished "
                 "output set: its manifest (report.json, cusick.json or kes-report.json) parses, every file it lists is there "
-                "with its size and SHA-256, its numbers are finite and its OBJ and GLB meshes read. One line per problem on stderr; exit 0 when all is "
+                "with its size and SHA-256, its numbers are finite and its OBJ and GLB meshes read; a sweep folder (sweep.json): "
+                "every point it lists as done verifies so; an experiment's folder: each of its sets (cube_results.json, "
+                "corner_map.json, figure1.json) verifies. One line per problem on stderr; exit 0 when all is "
                 "well, 2 otherwise.");
     sub->add_option("FILE|DIR", o->paths, "Files and output folders to check")->required();
     sub->callback([o, &exit_code] { exit_code = run_check(*o); });

@@ -26,6 +26,7 @@
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/drape_files.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/surface_file.hpp"
 #include "woven/render/drape_view.hpp"
@@ -120,7 +121,7 @@ render::Image drape_picture(const testers::CusickResult& r, const testers::Cusic
     cloth.mesh = r.surface;
     cloth.uv.assign(r.surface_uv.begin(), r.surface_uv.end());
     cloth.spacing_m = r.spacing_m;
-    return render_view(scene_view(std::move(cloth), setup.obstacles, fabric), render::View::CORNER, 1024, 768);
+    return render_view(scene_view(std::move(cloth), setup.obstacles, fabric), render::View::CORNER, 1024, 768, "drape.png");
 }
 
 std::string angles_text(const std::vector<double>& a)
@@ -192,7 +193,7 @@ int run_cusick(const CusickCommandOptions& o)
     make_output_dir(out_dir);
     // Every file of the set, known before the runs: published together, cusick.json last
     // (io::OutputSet), so an interrupted or failed run never leaves a mixed directory.
-    std::vector<std::string> members{"cusick.obj", "drape.png"};
+    std::vector<std::string> members{"cusick.obj", "cusick.glb", "drape.png"};
     for (int k = 0; k < runs; ++k)
         members.push_back(runs == 1 ? "shadow.png" : "shadow-seed" + std::to_string(seed0 + static_cast<std::uint64_t>(k)) + ".png");
     members.push_back("cusick.json");
@@ -251,6 +252,7 @@ int run_cusick(const CusickCommandOptions& o)
         if (k == 0) {
             set.add("cusick.obj", io::surface_obj(r.surface, r.surface_uv,
                                                   "cusick: draped specimen, fabric " + name + ", spacing " + std::to_string(r.spacing_m) + " m"));
+            set.add("cusick.glb", io::draped_surface_glb(r.surface, r.surface_uv, setup.obstacles, ck.solver.contact_distance, fabric.color));
             if (!o.no_render && !interrupt_requested()) {
                 set.add("drape.png", render::encode_png(drape_picture(r, setup, fabric), out("drape.png")));
             }
@@ -329,17 +331,17 @@ void add_cusick_command(CLI::App& app, int& exit_code)
     CLI::App* sub = app.add_subcommand("cusick", "Cusick drape test: drape coefficient and nodes of a circular specimen on a disc");
     sub->footer("The specimen (a disc cut from the particle grid, warp along +y) is clamped centred on the support disc and "
                 "drapes to rest; DC = (A_shadow - A_disc) / (A_specimen - A_disc) x 100 %. Writes shadow.png (top view, warp "
-                "up), drape.png, cusick.obj and cusick.json to --out; one line per run on stdout. Node angles are measured "
+                "up), drape.png, cusick.obj, cusick.glb (the specimen for display over the instrument) and cusick.json to --out; one line per run on stdout. Node angles are measured "
                 "from the warp towards the weft.");
     sub->add_option("FABRIC", o->fabric, "A built-in fabric (see `woven fabrics`) or a fabric .toml file")->required();
     sub->add_option("--specimen-cm", o->specimen_cm, "Specimen diameter, cm (the standard's 30; 24 and 36 are also used)")
         ->capture_default_str();
     sub->add_option("--disc-cm", o->disc_cm, "Support disc diameter, cm")->capture_default_str();
     sub->add_option("--spacing-cm", o->spacing_cm, "Particle spacing, cm (default 0.5: where the drape coefficient has converged)");
-    sub->add_option("--seeds", o->seeds, "Runs, each from a different small random perturbation of the flat start")->capture_default_str();
-    sub->add_option("--seed", o->seed, "Seed of the first run (the others: seed + 1, ...)")->capture_default_str();
-    sub->add_option("--threads", o->threads, "Worker threads (0: all cores)");
-    sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)");
+    sub->add_option("--seeds", o->seeds, "Runs, each from a different small random perturbation of the flat start")->capture_default_str()->type_name("INT");
+    sub->add_option("--seed", o->seed, "Seed of the first run (the others: seed + 1, ...)")->capture_default_str()->type_name("INT");
+    sub->add_option("--threads", o->threads, "Worker threads (0: all cores)")->type_name("INT");
+    sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)")->type_name("INT");
     sub->add_option("--shear-law", o->shear_law, "deembedded (the default: the material's law, docs/VALIDATION.md) or measured (the input curve as read)");
     sub->add_option("--clamp", o->clamp,
                     "pinned (the default: the particles within the disc's radius + --clamp-margin spacings pinned) or discs "
@@ -354,7 +356,7 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                     "overhang on a plate lowered in 1 cm stages, each to rest, then the plate taken away: a monotonic loading)");
     sub->add_option("--shakes", o->shakes,
                     "After the protocol, this many cycles of a quasi-static vertical shake of the disc (to rest at 1.5 g, at "
-                    "0.5 g, in the clamp's frame), then to rest at g (default 0)");
+                    "0.5 g, in the clamp's frame), then to rest at g (default 0)")->type_name("INT");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->callback([o, &exit_code] { exit_code = run_cusick(*o); });

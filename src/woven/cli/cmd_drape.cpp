@@ -70,12 +70,12 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("SCENE", o->scene, "A built-in scene name (see `woven scenes`) or a scene .toml file")
         ->capture_default_str();
     sub->add_option("--fabric", o->fabric, "Fabric: a built-in name or a fabric .toml file (overrides the scene's)");
-    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)");
+    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)")->type_name("INT");
     sub->add_option("--solver", o->solver, "Solver: fast (implicit steps, projected Newton) or paper (Sec. 3)")
         ->check(CLI::IsMember({"fast", "paper"}));
-    sub->add_option("--seed", o->seed, "Random seed: the fast solver's start perturbation (--perturb), the paper solver's stochastic phase");
-    sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)");
-    sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)");
+    sub->add_option("--seed", o->seed, "Random seed: the fast solver's start perturbation (--perturb), the paper solver's stochastic phase")->type_name("INT");
+    sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)")->type_name("INT");
+    sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)")->type_name("INT");
     sub->add_option("--perturb", o->perturb,
                     "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)");
     sub->add_option("--hysteresis", o->hysteresis,
@@ -85,8 +85,8 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->add_flag("--ply-ascii", o->ply_ascii, "Write drape.ply as ASCII PLY (default: binary little-endian)");
-    sub->add_option("--width", o->width, "Picture width, pixels")->capture_default_str();
-    sub->add_option("--height", o->height, "Picture height, pixels")->capture_default_str();
+    sub->add_option("--width", o->width, "Picture width, pixels")->capture_default_str()->type_name("INT");
+    sub->add_option("--height", o->height, "Picture height, pixels")->capture_default_str()->type_name("INT");
     sub->callback([o, &exit_code] { exit_code = run_drape(*o); });
 }
 

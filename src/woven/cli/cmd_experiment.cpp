@@ -94,7 +94,7 @@ Structure classify(const std::vector<analysis::Billow>& all)
 
 struct ExperimentOptions {
     std::string which;
-    std::string out = "docs/experiments";
+    std::string out = "out/experiments";  ///< not docs/experiments: a run in a clone must not overwrite the committed figures
     int seeds = 5;
     std::optional<int> grid;
     int threads = 1;
@@ -326,7 +326,10 @@ render::DrapeScene drape_scene(const Outcome& d, const io::SceneSpec& scene, con
     return scene_view(render::grid_surface(d.x, d.grid.nu, d.grid.nv), scene.obstacles, fabric, &scene.camera);
 }
 
-render::Image picture(const render::DrapeScene& ds, render::View view, int w, int h) { return render_view(ds, view, w, h); }
+render::Image picture(const render::DrapeScene& ds, render::View view, int w, int h, const std::string& what)
+{
+    return render_view(ds, view, w, h, what);
+}
 
 std::string fmt(const char* f, double v)
 {
@@ -400,12 +403,16 @@ int run_cube(const ExperimentOptions& o, const std::string& command)
     const std::vector<std::pair<render::View, std::string>> rows = {
         {render::View::CORNER, "corner"}, {render::View::SIDE, "side"}, {render::View::TOP, "top"}};
     render::Image fig = render::blank(margin_l + pw * static_cast<int>(fabrics.size()), label_h + ph * 3 + 30);
+    Activity figure_word("drawing the figure's pictures");
     for (std::size_t f = 0; f < fabrics.size(); ++f) {
         const render::DrapeScene ds = drape_scene(runs[f][0], scenes[f], fabrics[f]);
         const int x0 = margin_l + pw * static_cast<int>(f);
         render::draw_label(fig, o.fabrics[f], x0 + (pw - render::label_width(o.fabrics[f], 3)) / 2, 10, 3);
         for (std::size_t r = 0; r < rows.size(); ++r) {
-            render::paste(fig, picture(ds, rows[r].first, pw, ph), x0, label_h + ph * static_cast<int>(r));
+            figure_word.update(static_cast<double>(f * rows.size() + r) / static_cast<double>(fabrics.size() * rows.size()),
+                               o.fabrics[f] + ", " + rows[r].second);
+            render::paste(fig, picture(ds, rows[r].first, pw, ph, o.fabrics[f] + " " + rows[r].second), x0,
+                          label_h + ph * static_cast<int>(r));
             if (f == 0) render::draw_label(fig, rows[r].second, 10, label_h + ph * static_cast<int>(r) + ph / 2 - 7, 3);
         }
     }
@@ -822,7 +829,7 @@ int run_figure1(const ExperimentOptions& o, const std::string& command)
         const Outcome d = read_outcome(pr.dir, points[k], scene.fabric, true);
         const render::DrapeScene ds = drape_scene(d, scene, fabrics[k]);
         const std::string png = "figure1_" + name + ".png";
-        set.add(png, render::encode_png(picture(ds, render::View::SCENE, 1024, 768), join_path(o.out, png)));
+        set.add(png, render::encode_png(picture(ds, render::View::SCENE, 1024, 768, png), join_path(o.out, png)));
         md << "| " << name << " (" << scene.fabric << ", " << d.grid.nu << " x " << d.grid.nv << ") | " << (d.converged ? "yes" : "no")
            << " | " << d.steps << " | " << fmt("%.0f", d.wall_s) << " |\n";
         runs.push_back(outcome_json(d));
@@ -869,7 +876,7 @@ void add_experiment_command(CLI::App& app, int& exit_code)
     sub->add_option("--reuse", o->reuse, "map: analyse the drapes of an earlier run again (its corner_map.json), without draping");
     sub->add_option("--sweep", o->sweep, "The sweep folder: the plan and one folder per drape (default out/experiment-<name>)");
     sub->add_flag("--plan-only", o->plan_only, "Write the plan (and the map's fabric files) into the sweep folder and stop");
-    sub->add_option("--jobs", o->jobs, "Drapes run at once on this machine")->capture_default_str();
+    sub->add_option("--jobs", o->jobs, "Drapes run at once on this machine")->capture_default_str()->type_name("INT");
     sub->add_option("--shard", o->shard, "Run shard I of N (0 <= I < N) of the drapes, as `woven sweep --shard`");
     sub->callback([o, &exit_code, sub] {
         // The command the results record: the options that change them (not where or how the

@@ -3,6 +3,7 @@
 // of the model's particles, against the fabric's input values.
 #include <algorithm>
 #include <cctype>
+#include <cstdarg>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/material.hpp"
+#include "woven/cli/progress.hpp"
 #include "woven/cli/report.hpp"
 #include "woven/cli/resources.hpp"
 #include "woven/cli/run_checks.hpp"
@@ -27,8 +29,10 @@
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
+#include "woven/io/scene_file.hpp"
 #include "woven/render/image.hpp"
 #include "woven/render/plot.hpp"
+#include "woven/sim/thread_count.hpp"
 #include "woven/testers/cantilever.hpp"
 #include "woven/testers/kes_bending.hpp"
 #include "woven/testers/kes_shear.hpp"
@@ -36,6 +40,18 @@
 namespace woven::cli {
 
 namespace {
+
+/// printf into std::cout, not C's stdout: the Python module captures std::cout (nothing of a
+/// command reaches the interpreter's stdout).
+[[gnu::format(printf, 1, 2)]] void print_out(const char* format, ...)
+{
+    char line[512];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(line, sizeof line, format, args);
+    va_end(args);
+    std::cout << line;
+}
 
 constexpr double kDefaultCantileverSigmaCm = 0.25;
 constexpr double kDefaultBendingSigmaCm = 0.1;
@@ -202,9 +218,9 @@ nlohmann::json cantilever_convergence(const kes::FabricData& fabric, testers::Di
     const testers::CurvatureOfMoment law = testers::fabric_curvature_law(fabric, d, model::BendingForm::WORK, mo.gram_force);
     const double c = 0.5 * testers::elastica_overhang_for_chord_angle(testers::kPeirceChordAngle, w, law);
     nlohmann::json rows = nlohmann::json::array();
-    std::printf("cantilever convergence, %s: c = %.5g cm (elastica, 41.5 degree chord)\n", testers::to_string(d).c_str(),
+    print_out("cantilever convergence, %s: c = %.5g cm (elastica, 41.5 degree chord)\n", testers::to_string(d).c_str(),
                 c * units::kMToCm);
-    std::printf("%6s %10s %12s %12s %10s %7s\n", "L/c", "sigma_cm", "c_sim_cm", "c_exact_cm", "rel_err", "order");
+    print_out("%6s %10s %12s %12s %10s %7s\n", "L/c", "sigma_cm", "c_sim_cm", "c_exact_cm", "rel_err", "order");
     for (double ratio : {1.0, 1.5, 2.0, 2.5, 3.0}) {
         const double L = ratio * c;
         const testers::ElasticaSolution el = testers::cantilever_elastica(L, w, law);
@@ -218,7 +234,7 @@ nlohmann::json cantilever_convergence(const kes::FabricData& fabric, testers::Di
             const double err = (c_sim - c_exact) / c_exact;
             double order = NAN;
             if (level > 0 && err != 0 && prev_err != 0) order = std::log(std::abs(prev_err / err)) / std::log(prev_sigma / sh.sigma);
-            std::printf("%6.2f %10.5g %12.6g %12.6g %+9.4f%% %7.3g\n", ratio, sh.sigma * units::kMToCm, c_sim * units::kMToCm,
+            print_out("%6.2f %10.5g %12.6g %12.6g %+9.4f%% %7.3g\n", ratio, sh.sigma * units::kMToCm, c_sim * units::kMToCm,
                         c_exact * units::kMToCm, 100 * err, order);
             rows.push_back({{"direction", testers::to_string(d)},
                             {"overhang_ratio", ratio},
@@ -269,6 +285,7 @@ int run_kes_test(const KesTestOptions& options)
     mo.hysteresis = model::Hysteresis::FRICTION;
     if (options.hysteresis) mo.hysteresis = parse_hysteresis(*options.hysteresis, "--hysteresis");
     if (options.out) parse_path(*options.out, "--out");
+    const int threads = options.threads ? static_cast<int>(*parse_integer(options.threads, "--threads", 0, io::kMaxThreads)) : 0;
     std::vector<std::string> warnings;
     const kes::FabricData fabric = command_fabric(options.fabric, options.given_fabric, &warnings);
     print_warnings(warnings);
@@ -305,16 +322,33 @@ int run_kes_test(const KesTestOptions& options)
     bending_results.reserve(directions.size());
     shear_results.reserve(directions.size());
 
+    // Word on the wait (a test can take minutes): the share of (test, direction) runs done and
+    // the Newton iterations of the one running.
+    Activity activity("kes-test " + name);
+    const sim::ThreadCount thread_count(threads, threads);
+    const int units = (int(run_cantilever) + int(run_bending) + int(run_shear) + int(options.convergence)) * int(directions.size());
+    int units_done = 0, iterations = 0;
+    std::string running;
+    const auto begin_unit = [&](const std::string& what) {
+        running = what;
+        iterations = 0;
+        activity.update(double(units_done) / units, running);
+    };
+    const auto on_iteration = [&] { activity.update(double(units_done) / units, running + ", iteration " + std::to_string(++iterations)); };
+
     if (run_cantilever) {
         testers::CantileverOptions co;
         co.sigma = (sigma_cm ? *sigma_cm : kDefaultCantileverSigmaCm) * units::kCmToM;
         co.model = mo;
+        co.solve.on_iteration = on_iteration;
         render::Plot p;
         p.title = "Cantilever (ASTM D1388), " + name + ": strip at the 41.5 degree chord";
         p.x_label = "along the strip (cm)";
         p.y_label = "height (cm)";
         for (testers::Direction d : directions) {
+            begin_unit("cantilever " + testers::to_string(d));
             const testers::CantileverResult r = testers::cantilever_test(fabric, d, co);
+            ++units_done;
             Row row;
             row.test = "cantilever";
             row.direction = testers::to_string(d);
@@ -377,9 +411,12 @@ int run_kes_test(const KesTestOptions& options)
         testers::BendingTestOptions bo;
         bo.sigma = (sigma_cm ? *sigma_cm : kDefaultBendingSigmaCm) * units::kCmToM;
         bo.model = mo;
+        bo.solve.on_iteration = on_iteration;
         std::vector<testers::KesCurveResult>& results = bending_results;
         for (testers::Direction d : directions) {
+            begin_unit("bending " + testers::to_string(d));
             results.push_back(testers::kes_bending_test(fabric, d, bo));
+            ++units_done;
             csv.emplace_back("bending_" + testers::to_string(d) + ".csv", curve_csv(results.back(), "K_per_cm", "M_gf_cm_per_cm"));
             if (results.back().loop)
                 csv.emplace_back("bending_loop_" + testers::to_string(d) + ".csv", loop_csv(results.back(), "K_per_cm", "M_gf_cm_per_cm"));
@@ -396,9 +433,12 @@ int run_kes_test(const KesTestOptions& options)
         so.sigma = (sigma_cm ? *sigma_cm : kDefaultShearSigmaCm) * units::kCmToM;
         so.length = shear_length_m;
         so.model = mo;
+        so.solve.on_iteration = on_iteration;
         std::vector<testers::KesCurveResult>& results = shear_results;
         for (testers::Direction d : directions) {
+            begin_unit("shear " + testers::to_string(d));
             results.push_back(testers::kes_shear_test(fabric, d, so));
+            ++units_done;
             csv.emplace_back("shear_" + testers::to_string(d) + ".csv", curve_csv(results.back(), "phi_deg", "F_gf_per_cm"));
             if (results.back().loop)
                 csv.emplace_back("shear_loop_" + testers::to_string(d) + ".csv", loop_csv(results.back(), "phi_deg", "F_gf_per_cm"));
@@ -415,30 +455,34 @@ int run_kes_test(const KesTestOptions& options)
         testers::CantileverOptions co;
         co.sigma = (sigma_cm ? *sigma_cm : 2 * kDefaultCantileverSigmaCm) * units::kCmToM;
         co.model = mo;
-        for (testers::Direction d : directions)
+        co.solve.on_iteration = on_iteration;
+        for (testers::Direction d : directions) {
+            begin_unit("convergence " + testers::to_string(d));
             for (auto& row : cantilever_convergence(fabric, d, co, mo)) convergence.push_back(row);
+            ++units_done;
+        }
     }
 
     // Table.
     std::cout << "fabric " << name << " (bending form " << (mo.bending_form == model::BendingForm::WORK ? "work" : "secant")
               << ", discretization " << (mo.discretization == model::Discretization::PAPER ? "paper" : "convergent") << ", "
               << shear_law_text(mo) << ", hysteresis " << model::to_string(mo.hysteresis) << ")\n";
-    std::printf("%-10s %-5s %8s %12s %12s %9s %9s  %s\n", "test", "dir", "sigma_cm", "input", "simulated", "rel_err", "curve_err", "unit");
+    print_out("%-10s %-5s %8s %12s %12s %9s %9s  %s\n", "test", "dir", "sigma_cm", "input", "simulated", "rel_err", "curve_err", "unit");
     for (const Row& r : rows) {
-        std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", r.test.c_str(), r.direction.c_str(), r.sigma_m * units::kMToCm,
+        print_out("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", r.test.c_str(), r.direction.c_str(), r.sigma_m * units::kMToCm,
                     r.input, r.simulated, 100 * r.rel, 100 * r.curve, r.unit.c_str());
         if (r.central)
-            std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %9s  %s\n", "  centre", r.direction.c_str(), r.sigma_m * units::kMToCm, r.input,
+            print_out("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %9s  %s\n", "  centre", r.direction.c_str(), r.sigma_m * units::kMToCm, r.input,
                         *r.central, 100 * *r.central_rel, "", r.unit.c_str());
         if (r.loop) {
             const testers::KesCurveResult& l = *r.loop;
             const bool shear = l.hysteresis5_at > 0;
-            std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", shear ? "  2HG" : "  2HB", r.direction.c_str(),
+            print_out("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %8.4f%%  %s\n", shear ? "  2HG" : "  2HB", r.direction.c_str(),
                         r.sigma_m * units::kMToCm, l.input_hysteresis, l.simulated_hysteresis,
                         100 * (l.simulated_hysteresis - l.input_hysteresis) / l.input_hysteresis, 100 * l.loop_max_rel_error,
                         shear ? "gf/cm" : "gf.cm/cm");
             if (shear)
-                std::printf("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %9s  %s\n", "  2HG5", r.direction.c_str(), r.sigma_m * units::kMToCm,
+                print_out("%-10s %-5s %8.4g %12.6g %12.6g %+9.4f%% %9s  %s\n", "  2HG5", r.direction.c_str(), r.sigma_m * units::kMToCm,
                             l.input_hysteresis5, l.simulated_hysteresis5, 100 * (l.simulated_hysteresis5 - l.input_hysteresis5) / l.input_hysteresis5,
                             "", "gf/cm");
         }
@@ -540,6 +584,8 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
     sub->add_option("--hysteresis", options->hysteresis,
                     "friction (the default here: the mean line plus friction elements, full KES loops) or loading-branch (the loading "
                     "branch as an elastic energy, the loading sweep only)");
+    sub->add_option("--threads", options->threads, "Worker threads: oneTBB, OpenMP and the BLAS (0: all cores, the default)")
+        ->type_name("INT");
     sub->add_option("--out", options->out, "Output directory (default out/kes-<name>)");
     sub->add_flag("--convergence", options->convergence,
                   "Also the cantilever's grid convergence: bending length vs the exact elastica at L/c = 1..3 and spacings S, S/2, S/4 "

@@ -110,7 +110,7 @@ int run_render(const RenderCommandOptions& o)
     }
     const render::DrapeScene ds
         = scene_view(std::move(cloth), scene ? scene->obstacles : floor_only, fabric, scene ? &scene->camera : nullptr);
-    const render::Image img = render_view(ds, *view, width, height);
+    const render::Image img = render_view(ds, *view, width, height, o.out);
     io::write_file_atomic(o.out, render::encode_png(img, o.out));
     std::cout << "wrote " << o.out << " (" << width << " x " << height << ", view " << render::view_name(*view) << ")\n";
     return kExitOk;

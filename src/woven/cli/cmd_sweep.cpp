@@ -306,6 +306,32 @@ std::string tail_lines(const fs::path& p, int lines)
     return t->substr(at);
 }
 
+/// The value of a point's own --threads, if its command line has one.
+std::optional<std::string> plan_threads(const std::vector<std::string>& args)
+{
+    for (std::size_t k = 0; k + 1 < args.size(); ++k)
+        if (args[k] == "--threads") return args[k + 1];
+    return std::nullopt;
+}
+
+/// "N thread(s)" each point runs on: the plan's --threads where its points give one (0: all
+/// cores), else the share of the cores the sweep passes.
+std::string threads_text(const std::vector<const io::SweepPoint*>& todo, int share)
+{
+    std::optional<std::string> given;
+    bool some_given = false, some_not = false, differ = false;
+    for (const auto* p : todo) {
+        const auto t = plan_threads(p->args);
+        (t ? some_given : some_not) = true;
+        if (t && given && *t != *given) differ = true;
+        if (t && !given) given = t;
+    }
+    const auto count = [](const std::string& n) { return n + (n == "1" ? " thread" : " threads"); };
+    if (!some_given) return count(std::to_string(share));
+    if (differ || some_not) return "the plan's --threads (or " + count(std::to_string(share)) + ")";
+    return *given == "0" ? "all cores (the plan's --threads 0)" : count(*given) + " (the plan's --threads)";
+}
+
 class SweepRunner {
 public:
     SweepRunner(const io::SweepPlan& plan, fs::path sweep, int jobs, int threads_per_point,
@@ -401,9 +427,7 @@ private:
             std::ofstream(file) << io::apply_toml_overrides(text, fabric, p.fabric_overrides);
             args[at] = file.string();
         }
-        bool has_threads = false;
-        for (const auto& a : args) has_threads = has_threads || a == "--threads";
-        if (!has_threads && plan_.command != "kes-test") {
+        if (!plan_threads(args)) {
             args.push_back("--threads");
             args.push_back(std::to_string(threads_));
         }
@@ -484,10 +508,10 @@ private:
             f["log_tail"] = tail_lines(r.work / "log.txt", 8);
             write_atomic(sweep_ / "failed" / (p.name + ".json"), f.dump(2) + "\n");
             remove_work(r.work);
-            std::cout << head.str() << "FAILED (" << problem << ", " << std::fixed << std::setprecision(1) << wall << " s); see "
+            std::cerr << head.str() << "FAILED (" << problem << ", " << std::fixed << std::setprecision(1) << wall << " s); see "
                       << (sweep_ / "failed" / (p.name + ".json")).string() << "\n"
                       << std::flush;
-            std::cout.unsetf(std::ios::fixed);
+            std::cerr.unsetf(std::ios::fixed);
             return;
         }
         nlohmann::json pj;
@@ -513,7 +537,7 @@ private:
             const PointState there = point_state(sweep_, p);
             if (there.done) {
                 remove_work(r.work);
-                std::cout << head.str() << "done elsewhere meanwhile; kept that folder\n" << std::flush;
+                std::cerr << head.str() << "done elsewhere meanwhile; kept that folder\n" << std::flush;
                 return;
             }
             const fs::path aside = work_root_ / ("replaced." + p.name + "." + host_ + "." + std::to_string(::getpid()));
@@ -526,8 +550,8 @@ private:
         std::error_code ec;
         fs::remove(sweep_ / "failed" / (p.name + ".json"), ec);
         ++ran_;
-        std::cout << head.str() << "ran in " << std::fixed << std::setprecision(1) << wall << " s\n" << std::flush;
-        std::cout.unsetf(std::ios::fixed);
+        std::cerr << head.str() << "ran in " << std::fixed << std::setprecision(1) << wall << " s\n" << std::flush;
+        std::cerr.unsetf(std::ios::fixed);
     }
 
     void remove_work(const fs::path& w)
@@ -788,11 +812,11 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
     const int jobs = o.jobs;
     const int cores = available_cores();
     const int threads = std::max(1, cores / (jobs * local_ranks()));
-    std::cout << "sweep " << plan.name << " (" << plan.command << "): " << points.size() << " points";
+    std::cerr << "sweep " << plan.name << " (" << plan.command << "): " << points.size() << " points";
     if (o.shard.count > 1)
-        std::cout << ", shard " << o.shard.index << "/" << o.shard.count << " (" << o.shard.source << "): " << res.mine << " here";
-    std::cout << "; " << res.done_before << " done already, " << todo.size() << " to run, " << jobs << (jobs == 1 ? " job" : " jobs")
-              << " of " << threads << (threads == 1 ? " thread" : " threads") << "; folder " << out << "\n"
+        std::cerr << ", shard " << o.shard.index << "/" << o.shard.count << " (" << o.shard.source << "): " << res.mine << " here";
+    std::cerr << "; " << res.done_before << " done already, " << todo.size() << " to run, " << jobs << (jobs == 1 ? " job" : " jobs")
+              << " of " << threads_text(todo, threads) << "; folder " << out << "\n"
               << std::flush;
     SweepRunner runner(plan, out, jobs, threads, o.on_start);
     res.failed = runner.run(todo);
@@ -857,7 +881,7 @@ void add_sweep_command(CLI::App& app, int& exit_code)
                 "interrupted.");
     sub->add_option("PLAN", o->plan, "The plan, a .toml file")->required();
     sub->add_option("--out", o->out, "The sweep folder (default out/sweep-<plan name>)");
-    sub->add_option("--jobs", o->jobs, "Points run at once on this machine (the cores are divided between them)")->capture_default_str();
+    sub->add_option("--jobs", o->jobs, "Points run at once on this machine (the cores are divided between them)")->capture_default_str()->type_name("INT");
     sub->add_option("--shard", o->shard, "Run shard I of N (0 <= I < N): the points whose index modulo N is I");
     sub->add_flag("--merge", o->merge, "Only merge the finished points into sweep.csv and sweep.json");
     sub->add_flag("--list", o->list, "List the points and their command lines, run nothing");

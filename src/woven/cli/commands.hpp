@@ -63,6 +63,7 @@ struct KesTestOptions {
     std::optional<std::string> discretization;
     std::optional<std::string> shear_law;
     std::optional<std::string> hysteresis;  ///< friction (default) or loading-branch
+    std::optional<std::string> threads;     ///< oneTBB, OpenMP and BLAS threads (0: all cores, the default)
     std::optional<std::string> out;
     bool convergence = false;
     GivenFabric given_fabric;

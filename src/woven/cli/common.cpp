@@ -52,7 +52,8 @@ void make_output_dir(const std::string& dir)
     if (fs::is_directory(dir, ec)) return;
     if (fs::exists(dir, ec)) throw InputError(kCommandLine, "--out", dir + " exists and is not a directory");
     fs::create_directories(dir, ec);
-    if (ec) throw InputError(kCommandLine, "--out", "cannot create the directory " + dir + ": " + ec.message());
+    // An I/O failure (exit 1), not bad input: the name is well formed, the system refuses it.
+    if (ec) throw RuntimeError(std::string(kCommandLine) + ": --out: cannot create the directory " + dir + ": " + ec.message());
 }
 
 std::string safe_file_name(const std::string& text)

@@ -24,7 +24,8 @@ render::Image render_drape(const Positions& x, const model::Grid& grid, const io
                            const kes::FabricData& fabric, int width, int height, const render::ClothSurface* cut_surface = nullptr)
 {
     render::ClothSurface cloth = cut_surface ? *cut_surface : render::grid_surface(x, grid.nu, grid.nv);
-    return render_view(scene_view(std::move(cloth), scene.obstacles, fabric, &scene.camera), render::View::SCENE, width, height);
+    return render_view(scene_view(std::move(cloth), scene.obstacles, fabric, &scene.camera), render::View::SCENE, width, height,
+                       "drape.png");
 }
 
 }  // namespace
@@ -100,6 +101,146 @@ std::string drape_banner(const DrapeSetup& d)
 sim::Result solve_drape(const DrapeSetup& d, const sim::ProgressCallback& progress, const sim::IterationCallback& iteration)
 {
     return sim::drape(d.problem, d.scene.solver, progress, iteration);
+}
+
+SteppedDrape::SteppedDrape(const DrapeSetup& setup) : setup_(setup), x_(setup.problem.initial)
+{
+    totals_.x = x_;
+    totals_.energy = setup.model->evaluate(x_);
+    totals_.equilibrium.max_residual_rel = sim::max_residual_relative(*setup.model, setup.scene.obstacles, x_, setup.problem.pinned,
+                                                                       setup.scene.solver.contact_distance, setup.scene.solver.friction);
+}
+
+SteppedDrape::~SteppedDrape() { stop_worker(); }
+
+void SteppedDrape::stop_worker()
+{
+    if (!worker_.joinable()) return;
+    {
+        const std::lock_guard lock(mutex_);
+        stop_ = true;
+        progress_ = nullptr;
+        iteration_ = nullptr;
+    }
+    cv_.notify_all();
+    worker_.join();
+}
+
+void SteppedDrape::start(int budget, const sim::ProgressCallback* progress, const sim::IterationCallback* iteration)
+{
+    stop_worker();
+    finished_ = paused_ = stop_ = pause_due_ = false;
+    budget_ = budget;  // before the worker runs
+    progress_ = progress;
+    iteration_ = iteration;
+    base_ = totals_;
+    sim::Problem problem = setup_.problem;
+    problem.initial = x_;
+    sim::SolverOptions options = setup_.scene.solver;
+    if (started_) options.perturbation = 0;  // a further run starts from the state reached as it is
+    started_ = true;
+    ended_ = false;
+    worker_ = std::thread([this, problem, options] {
+        // The worker pauses when its budget is spent at the next callback after the step (the
+        // next step's first iteration), so that a run that ends at that step ends first.
+        const auto pause_if_due = [this](std::unique_lock<std::mutex>& lock) {
+            if (!pause_due_ || stop_) return;
+            pause_due_ = false;
+            paused_ = true;
+            cv_.notify_all();
+            cv_.wait(lock, [this] { return budget_ > 0 || stop_; });
+            paused_ = false;
+        };
+        const auto on_step = [this, pause_if_due](const sim::StepInfo& info) {
+            std::unique_lock lock(mutex_);
+            pause_if_due(lock);
+            if (stop_) return false;
+            const bool go = !progress_ || (*progress_)(info);
+            if (info.x) x_ = *info.x;
+            totals_.steps = base_.steps + info.step;
+            totals_.simulated_time = base_.simulated_time + info.time;
+            totals_.energy = setup_.model->evaluate(x_);
+            totals_.equilibrium.max_residual_rel = info.max_residual_rel;
+            totals_.equilibrium.max_move = info.max_move;
+            if (--budget_ <= 0) pause_due_ = true;
+            return go && !stop_;
+        };
+        const auto on_iteration = [this, pause_if_due](const sim::IterationInfo& info) {
+            std::unique_lock lock(mutex_);
+            pause_if_due(lock);
+            if (stop_) return false;
+            return !iteration_ || (*iteration_)(info);
+        };
+        sim::Result r = sim::drape(problem, options, on_step, on_iteration);
+        const std::lock_guard lock(mutex_);
+        run_result_ = std::move(r);
+        finished_ = true;
+        cv_.notify_all();
+    });
+}
+
+void SteppedDrape::advance(int steps, const sim::ProgressCallback& progress, const sim::IterationCallback& iteration,
+                           const std::function<bool()>& keep_waiting)
+{
+    if (steps < 1) throw InputError(kCommandLine, "steps", "expected at least 1 step, got " + std::to_string(steps));
+    if (ended_) {
+        start(steps, &progress, &iteration);
+    } else {
+        const std::lock_guard lock(mutex_);
+        progress_ = &progress;
+        iteration_ = &iteration;
+        budget_ = steps;
+    }
+    std::unique_lock lock(mutex_);
+    cv_.notify_all();
+    while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return (paused_ && budget_ <= 0) || finished_; })) {
+        lock.unlock();
+        const bool go = !keep_waiting || keep_waiting();
+        lock.lock();
+        if (!go) stop_ = true;
+        cv_.notify_all();
+    }
+    progress_ = nullptr;
+    iteration_ = nullptr;
+    if (finished_) {
+        lock.unlock();
+        worker_.join();
+        const sim::Result& r = run_result_;
+        x_ = r.x;
+        totals_.x = x_;
+        totals_.steps = base_.steps + r.steps;
+        totals_.iterations = base_.iterations + r.iterations;
+        totals_.factorizations = base_.factorizations + r.factorizations;
+        totals_.cg_iterations = base_.cg_iterations + r.cg_iterations;
+        totals_.softened_steps = base_.softened_steps + r.softened_steps;
+        totals_.simulated_time = base_.simulated_time + r.simulated_time;
+        totals_.wall_time = base_.wall_time + r.wall_time;
+        totals_.energy = r.energy;
+        totals_.equilibrium = r.equilibrium;
+        totals_.converged = r.converged;
+        totals_.interrupted = r.interrupted;
+        ended_ = true;
+    } else {
+        totals_.x = x_;
+        totals_.converged = false;
+    }
+}
+
+void replace_obstacles(DrapeSetup& d, geometry::ObstacleSet obstacles, std::vector<std::string> kinds, const Positions& x,
+                       const std::string& source)
+{
+    std::vector<char> pinned(x.size(), 0);
+    for (int p : d.problem.pinned) pinned.at(static_cast<std::size_t>(p)) = 1;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (pinned[i] || !d.model->active(static_cast<int>(i))) continue;
+        const double dist = obstacles.distance(x[i]);
+        if (!(dist > 0))
+            throw InputError(source, "obstacles",
+                             "particle " + std::to_string(i) + " lies inside an obstacle (distance " + std::to_string(dist) +
+                                 " m); the cloth is kept out of obstacles, not pushed out of them: move an obstacle in smaller steps");
+    }
+    d.scene.obstacles = std::move(obstacles);  // in place: a paused run's solver holds a reference to it
+    d.scene.obstacle_kinds = std::move(kinds);
 }
 
 DrapeRun finish_drape(const DrapeSetup& d, sim::Result result, bool interrupted)

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "woven/cli/progress.hpp"
+
 namespace woven::cli {
 
 render::DrapeScene scene_view(render::ClothSurface cloth, const geometry::ObstacleSet& obstacles, const kes::FabricData& fabric,
@@ -21,11 +23,13 @@ render::DrapeScene scene_view(render::ClothSurface cloth, const geometry::Obstac
     return ds;
 }
 
-render::Image render_view(const render::DrapeScene& scene, render::View view, int width, int height)
+render::Image render_view(const render::DrapeScene& scene, render::View view, int width, int height, const std::string& what)
 {
+    Activity activity("rendering " + what + " (" + std::to_string(width) + " x " + std::to_string(height) + ")");
     render::RenderOptions ro;
     ro.width = width;
     ro.height = height;
+    ro.progress = [&activity](double f) { activity.update(f); };
     return render::render_drape(scene, render::view_camera(scene, view, double(width) / height), ro);
 }
 

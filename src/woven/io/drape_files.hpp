@@ -36,4 +36,10 @@ struct DrapeMeshes {
 /// then but what was before it; the set is not published).
 void add_drape_meshes(OutputSet& set, const DrapeMeshes& d);
 
+/// A GLB of a draped surface (the Cusick specimen) over the obstacles, its cloth lifted off them
+/// for display as drape.glb's (geometry/display_surface.hpp), with texture coordinates.
+std::string draped_surface_glb(const geometry::TriangleMesh& surface, const std::vector<Vec2>& uv,
+                               const geometry::ObstacleSet& obstacles, double contact_distance,
+                               const std::optional<std::array<double, 3>>& color);
+
 }  // namespace woven::io

@@ -160,6 +160,11 @@ std::string scene_glb(const std::vector<GltfMesh>& meshes)
         tinygltf::Node node;
         node.name = g.name;
         node.mesh = static_cast<int>(m.meshes.size()) - 1;
+        if (!g.holds.empty()) {
+            tinygltf::Value::Object node_extras;
+            node_extras["holds"] = tinygltf::Value(g.holds);
+            node.extras = tinygltf::Value(node_extras);
+        }
         m.nodes.push_back(node);
         scene.nodes.push_back(static_cast<int>(m.nodes.size()) - 1);
     }

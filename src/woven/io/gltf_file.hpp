@@ -28,6 +28,7 @@ struct GltfMesh {
     std::vector<analysis::VertexField> fields;  ///< one value per vertex each: custom attributes
     std::array<double, 3> color{0.6, 0.6, 0.6};  ///< base colour, linear RGB in 0..1
     bool double_sided = false;
+    std::string holds;  ///< what the mesh is, for a reader (the node's extras "holds"); may be empty
 };
 
 /// The glTF attribute of a per-vertex field: "_" + the name in upper case ("_STRAIN_WARP";

@@ -278,6 +278,19 @@ SceneSpec scene_from_values(const nlohmann::json& values, const std::string& sou
     return read_scene(TomlReader(table_from_values(values, source), source), base_dir, warnings, false);
 }
 
+std::unique_ptr<geometry::Obstacle> obstacle_from_values(const nlohmann::json& values, const std::string& source,
+                                                         const std::string& base_dir, std::string* kind,
+                                                         std::vector<std::string>* warnings)
+{
+    const TomlReader reader(table_from_values(values, source), source);
+    std::string k;
+    auto obstacle = build_obstacle(reader.root(), ObstacleContext{base_dir, false}, k);
+    if (warnings)
+        for (auto& w : reader.unknown_keys()) warnings->push_back(std::move(w));
+    if (kind) *kind = k;
+    return obstacle;
+}
+
 Positions ClothSpec::initial_positions() const { return model::flat_grid(grid(), centre, yaw_deg * units::kDegToRad); }
 
 std::vector<int> SceneSpec::pinned_indices() const

@@ -1,6 +1,7 @@
 #include "woven/io/scene_obstacles.hpp"
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <iterator>
 
@@ -117,12 +118,54 @@ ObstaclePtr build_disc(const TomlTable& t, const ObstacleContext&)
     });
 }
 
+ObstaclePtr finish_mesh(const TomlTable& t, geometry::TriangleMesh mesh, double scale, const Vec3& rotation, const Vec3& translate);
+
+/// A mesh written in the table (from Python, woven.Obstacle.mesh): `vertices_m` [[x, y, z], ...]
+/// and `faces` [[a, b, c], ...], 0-based vertex indices.
+geometry::TriangleMesh inline_mesh(const TomlTable& t)
+{
+    const auto rows = [&](std::string_view key, const std::string& what) -> const toml::array& {
+        const toml::node* n = t.node(key);
+        const toml::array* a = n ? n->as_array() : nullptr;
+        if (!a || a->empty()) t.fail(key, "expected " + what);
+        if (static_cast<long long>(a->size()) > kMaxObjVertices)
+            t.fail(key, "expected at most " + std::to_string(kMaxObjVertices) + " rows, got " + std::to_string(a->size()));
+        return *a;
+    };
+    const toml::array& v = rows("vertices_m", "a non-empty array of [x, y, z] vertices in m");
+    const toml::array& f = rows("faces", "a non-empty array of [a, b, c] triangles (0-based indices into vertices_m)");
+    geometry::TriangleMesh mesh;
+    mesh.vertices.reserve(v.size());
+    for (std::size_t k = 0; k < v.size(); ++k) {
+        const std::string field = t.field("vertices_m") + "[" + std::to_string(k + 1) + "]";
+        const toml::array* xyz = v.get(k)->as_array();
+        if (!xyz || xyz->size() != 3) t.fail_at(field, "expected [x, y, z] in m" + TomlReader::at(*v.get(k)));
+        mesh.vertices.emplace_back(t.to_number(*xyz->get(0), field, kObstacleCoordinate), t.to_number(*xyz->get(1), field, kObstacleCoordinate),
+                                   t.to_number(*xyz->get(2), field, kObstacleCoordinate));
+    }
+    const long long last = static_cast<long long>(v.size()) - 1;
+    mesh.faces.reserve(f.size());
+    for (std::size_t k = 0; k < f.size(); ++k) {
+        const std::string field = t.field("faces") + "[" + std::to_string(k + 1) + "]";
+        const toml::array* abc = f.get(k)->as_array();
+        if (!abc || abc->size() != 3) t.fail_at(field, "expected [a, b, c], 0-based vertex indices" + TomlReader::at(*f.get(k)));
+        std::array<int, 3> face{};
+        for (int c = 0; c < 3; ++c) face[c] = static_cast<int>(t.to_integer(*abc->get(c), field, 0, last));
+        if (face[0] == face[1] || face[1] == face[2] || face[0] == face[2]) t.fail_at(field, "expected three different vertices");
+        mesh.faces.emplace_back(face[0], face[1], face[2]);
+    }
+    return mesh;
+}
+
 ObstaclePtr build_mesh(const TomlTable& t, const ObstacleContext& ctx)
 {
-    const std::string file = t.string("file", std::nullopt);
+    const bool given = t.has("vertices_m") || t.has("faces");
+    if (given && t.has("file")) t.fail_self("expected either file or vertices_m and faces, not both");
+    const std::string file = given ? std::string() : t.string("file", std::nullopt);
     const double scale = t.number("scale", kMeshScale, 1.0);
     const Vec3 rotation = t.vec<3>("rotation_deg", kObstacleAngle, Vec3(0, 0, 0));
     const Vec3 translate = t.vec<3>("translate_m", kObstacleCoordinate, Vec3(0, 0, 0));
+    if (given) return finish_mesh(t, inline_mesh(t), scale, rotation, translate);
     const fs::path path = fs::path(file).is_absolute() || ctx.base_dir.empty() ? fs::path(file) : fs::path(ctx.base_dir) / file;
     geometry::TriangleMesh mesh;
     std::error_code ec;
@@ -140,6 +183,12 @@ ObstaclePtr build_mesh(const TomlTable& t, const ObstacleContext& ctx)
         if (e.field() == t.field("file")) throw;
         t.fail("file", e.what());  // "<scene>: obstacle[k].file: <mesh>:<line>: f: ..."
     }
+    return finish_mesh(t, std::move(mesh), scale, rotation, translate);
+}
+
+/// The mesh placed (scaled, rotated, translated) and checked to lie in the scene's bounds.
+ObstaclePtr finish_mesh(const TomlTable& t, geometry::TriangleMesh mesh, double scale, const Vec3& rotation, const Vec3& translate)
+{
     mesh = geometry::transform(mesh, scale, rotation, translate);
     geometry::Aabb box;
     for (const Vec3& p : mesh.vertices) box.extend(p);

@@ -97,12 +97,10 @@ namespace {
 void check_range(double v, double lo, double hi, const std::string& source, const std::string& field, const std::string& unit)
 {
     std::ostringstream m;
-    if (!std::isfinite(v)) {
-        m << "expected a finite number in " << unit;
-        throw InputError(source, field, m.str());
-    }
-    if (v < lo || v > hi) {
-        m << "expected " << lo << " to " << hi << " " << unit << ", got " << v;
+    // Worded as the file readers word their ranges (io::Range::str): "[lo, hi] unit".
+    if (!std::isfinite(v) || v < lo || v > hi) {
+        m << "expected a number in [" << lo << ", " << hi << "] " << unit;
+        if (std::isfinite(v)) m << ", got " << v;
         throw InputError(source, field, m.str());
     }
 }

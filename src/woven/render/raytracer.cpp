@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -607,8 +608,16 @@ Image render(const std::vector<RenderMesh>& meshes, const Camera& camera, const 
     image.width = W;
     image.height = H;
     image.rgb.assign(static_cast<std::size_t>(W) * H * 3, 0);
+    // Rows begun, reported by whichever thread starts a row while no report is being made.
+    std::atomic<int> rows_begun{0};
+    std::atomic<bool> reporting{false};
 #pragma omp parallel for schedule(dynamic, 1)
     for (int py = 0; py < H; ++py) {
+        if (options.progress && !reporting.exchange(true)) {
+            options.progress(static_cast<double>(rows_begun.load()) / H);
+            reporting = false;
+        }
+        rows_begun.fetch_add(1);
         for (int px = 0; px < W; ++px) {
             Vec3 sum = Vec3::Zero();
             // Per pixel, random rotations (Cranley-Patterson) of fixed stratified patterns:

@@ -8,6 +8,7 @@
 // here by hand: the camera, sampling, the shading model and the cloth's thread pattern -- a
 // few hundred lines that a path tracer (e.g. Mitsuba, Cycles) would replace with far more
 // machinery than a Debian package offers for a headless 2-core build.
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -80,6 +81,9 @@ struct RenderOptions {
     double cloth_priority_m = 0;
     double pattern = 1;        ///< strength of the cloth's thread pattern (0: plain)
     Vec3 background{1, 1, 1};  ///< linear RGB in 0..1
+    /// Called now and then with the fraction of rows shaded (0..1), from one thread at a time;
+    /// may be empty.
+    std::function<void(double)> progress;
 };
 
 /// Ray-casts the meshes with Embree (see the file comment), gamma 2.2 output. Deterministic:

@@ -11,6 +11,7 @@
 #include "woven/sim/contact.hpp"
 #include "woven/sim/linear_solver.hpp"
 #include "woven/sim/solvers.hpp"
+#include "woven/sim/thread_count.hpp"
 
 namespace woven::sim {
 
@@ -26,6 +27,34 @@ std::vector<char> pinned_mask(const Problem& problem)
 }
 
 }  // namespace detail
+
+struct ThreadCount::State {
+    int omp = 0, blas = 0;
+    bool set = false, blas_set = false;
+    std::optional<tbb::global_control> tbb;
+};
+
+// The drape sets the BLAS to one thread (its only BLAS work is CHOLMOD's, each factorisation on
+// one thread, linear_solver.cpp: set once here, not switched at every solve).
+ThreadCount::ThreadCount(int threads, int blas) : state_(std::make_unique<State>())
+{
+    State& s = *state_;
+    s.omp = omp_get_max_threads();
+    s.blas = blas_threads();
+    s.set = threads > 0;
+    if (s.set) {
+        omp_set_num_threads(threads);
+        s.tbb.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    }
+    s.blas_set = blas > 0 && s.blas > 0 && s.blas != blas;
+    if (s.blas_set) set_blas_threads(blas);
+}
+
+ThreadCount::~ThreadCount()
+{
+    if (state_->set) omp_set_num_threads(state_->omp);
+    if (state_->blas_set) set_blas_threads(state_->blas);
+}
 
 namespace {
 
@@ -133,38 +162,6 @@ double max_residual_relative(const model::ClothModel& model, const geometry::Obs
     return r;
 }
 
-namespace {
-
-/// Sets the thread count of oneTBB (the solvers' threads) and OpenMP for its lifetime
-/// (threads > 0) and the BLAS's to one (the solvers' only BLAS work is CHOLMOD's, each
-/// factorisation on one thread, linear_solver.cpp: set once here, not switched at every solve),
-/// restoring both after.
-class ThreadCount {
-public:
-    explicit ThreadCount(int threads) : omp_(omp_get_max_threads()), blas_(blas_threads()), set_(threads > 0)
-    {
-        if (set_) {
-            omp_set_num_threads(threads);
-            tbb_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-        }
-        if (blas_ > 1) set_blas_threads(1);
-    }
-    ~ThreadCount()
-    {
-        if (set_) omp_set_num_threads(omp_);
-        if (blas_ > 1) set_blas_threads(blas_);
-    }
-    ThreadCount(const ThreadCount&) = delete;
-    ThreadCount& operator=(const ThreadCount&) = delete;
-
-private:
-    int omp_, blas_;
-    bool set_;
-    std::optional<tbb::global_control> tbb_;
-};
-
-}  // namespace
-
 const char* to_string(SolverKind kind) { return kind == SolverKind::FAST ? "fast" : "paper"; }
 
 std::optional<SolverKind> solver_kind_from_string(std::string_view name)
@@ -192,7 +189,7 @@ Result drape(const Problem& problem, const SolverOptions& options, const Progres
         throw InputError("", "fast.creep_softening", "must be a finite number above 0 (1 or less: off)");
     if (fo.creep_softening > 1 && !(fo.creep_stage_ratio > 1 && std::isfinite(fo.creep_stage_ratio)))
         throw InputError("", "fast.creep_stage_ratio", "must be a finite number above 1 while creep_softening is above 1");
-    const ThreadCount threads(options.threads);
+    const ThreadCount threads(options.threads, 1);
     return options.kind == SolverKind::FAST ? detail::fast_drape(problem, options, progress, iteration)
                                             : detail::paper_drape(problem, options, progress, iteration);
 }

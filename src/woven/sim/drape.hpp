@@ -161,6 +161,7 @@ struct StepInfo {
     double energy = 0;            ///< model energy (J)
     double max_move = 0;          ///< largest particle movement over the step (m)
     double max_residual_rel = 0;  ///< largest residual force / (m g) over free particles
+    const Positions* x = nullptr; ///< the state after the step (valid during the callback)
 };
 using ProgressCallback = std::function<bool(const StepInfo&)>;
 

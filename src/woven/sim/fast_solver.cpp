@@ -269,7 +269,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             }
         }
         if (progress) {
-            const StepInfo info{step, result.simulated_time, model.energy(x), result.equilibrium.max_move, result.equilibrium.max_residual_rel};
+            const StepInfo info{step, result.simulated_time, model.energy(x), result.equilibrium.max_move, result.equilibrium.max_residual_rel, &x};
             if (!progress(info)) {
                 result.interrupted = true;
                 break;

@@ -306,7 +306,7 @@ Result paper_drape(const Problem& problem, const SolverOptions& options, const P
         if (report || calm >= calm_steps)
             result.equilibrium.max_residual_rel = max_residual_relative(model, obstacles, x, problem.pinned, options.contact_distance);
         if (report) {
-            const StepInfo info{step, result.simulated_time, model.energy(x), result.equilibrium.max_move, result.equilibrium.max_residual_rel};
+            const StepInfo info{step, result.simulated_time, model.energy(x), result.equilibrium.max_move, result.equilibrium.max_residual_rel, &x};
             if (!progress(info)) {
                 result.interrupted = true;
                 break;

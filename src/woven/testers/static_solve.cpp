@@ -64,6 +64,7 @@ StaticResult solve_static(const model::ClothModel& model, const Positions& x0, c
             system.repattern(model.stencils(), extra);
             analysed = false;
         }
+        if (options.on_iteration) options.on_iteration();
         system.clear();
         model.evaluate(x, model::Derivatives::HESSIAN, system);
         system.finish();

@@ -5,6 +5,7 @@
 // Hessian is not positive definite (a flat, unloaded specimen: the stretch well is flat at
 // rest), a backtracking line search that rejects infinite energy, and a trust region of
 // sigma per iteration. No inertia, no obstacles: what is not pinned is free.
+#include <functional>
 #include <vector>
 
 #include "woven/common/types.hpp"
@@ -28,6 +29,8 @@ struct StaticOptions {
     /// than their weight (the shear test's pre-tension) measure the residual against those.
     double reference_force = 0.0;
     int max_iterations = 300;
+    /// Called after each Newton iteration (a caller's word on a long test); may be empty.
+    std::function<void()> on_iteration;
 };
 
 /// The equilibrium reached.
