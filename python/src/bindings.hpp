@@ -30,6 +30,16 @@ struct Fabric {
     std::string source;  ///< names it in messages: the path, "built-in fabric 'cotton'" or "Python fabric"
 };
 
+/// woven.Obstacle: one obstacle of a scene as the values of its [[obstacle]] table
+/// (docs/SCENE-FORMAT.md), checked by the scene reader's own builder when made.
+struct Obstacle {
+    nlohmann::json values;
+    std::string kind;
+    std::shared_ptr<const geometry::Obstacle> built;  ///< for its attributes
+};
+/// The source that names an obstacle made from Python values in messages.
+inline constexpr const char* kPythonObstacle = "Python obstacle";
+
 /// woven.Scene. io::SceneSpec holds its obstacles and cannot be copied, so a scene keeps how it
 /// was made and builds a fresh one for each drape (the same reading as the first).
 struct Scene {
@@ -60,11 +70,38 @@ FabricArg fabric_arg(py::handle fabric);
 extern PyObject* input_warning;
 /// Issues each warning as a Python warning of category woven.InputWarning.
 void warn(const std::vector<std::string>& warnings);
-/// Runs `f` (a command's code) with the GIL released, std::cout and std::cerr captured, the
+/// One woven call at a time in a process: the commands' printing (std::cout and std::cerr,
+/// captured), the interrupt poll and the solver's thread counts (OpenMP, oneTBB, the BLAS) are
+/// process-wide, so calls from several Python threads run one after the other, each with its own
+/// state. Taken with the GIL held; it waits without the GIL, and Ctrl-C while it waits raises
+/// KeyboardInterrupt. Nested on one thread it is held once. A woven call from a progress callback
+/// of a running call raises woven.Error (it would wait for itself).
+class CallLock {
+public:
+    CallLock();
+    ~CallLock();
+    CallLock(const CallLock&) = delete;
+    CallLock& operator=(const CallLock&) = delete;
+};
+/// Marks this thread as running a progress callback for its lifetime (see CallLock).
+class InCallback {
+public:
+    InCallback();
+    ~InCallback();
+    InCallback(const InCallback&) = delete;
+    InCallback& operator=(const InCallback&) = delete;
+};
+/// Runs `f` (a command's code), holding a CallLock, with the GIL released, std::cout and std::cerr captured, the
 /// progress line off and Ctrl-C (a signal the interpreter has seen) polled as an interrupt.
 /// The lines "woven: warning: ..." it printed are issued as Python warnings. Returns true when
 /// it was interrupted; `out` receives what it printed on stdout.
-bool run_command(const std::function<void()>& f, std::string* out = nullptr);
+/// `progress` (a callable, or None) gets a dict per progress event (cli::ProgressEvent) in place
+/// of the command's progress lines; False or KeyboardInterrupt from it stops the command as
+/// Ctrl-C does; another exception from it is raised once the command has stopped.
+bool run_command(const std::function<void()>& f, std::string* out = nullptr, py::handle progress = py::none());
+/// Calls `progress(info)` (marked InCallback): false when it returned False or raised; the first
+/// exception other than KeyboardInterrupt is kept in `error`. With the GIL held.
+bool call_progress(py::handle progress, py::dict info, std::optional<py::error_already_set>& error);
 /// True (and the interpreter's error cleared) when a signal handler raised, i.e. Ctrl-C was
 /// pressed; call with the GIL held.
 bool signal_seen();
@@ -73,5 +110,6 @@ bool signal_seen();
 void bind_fabric_scene(py::module_& m);  // fabric_scene.cpp
 void bind_drape(py::module_& m);         // drape.cpp
 void bind_testers(py::module_& m);       // testers.cpp
+void bind_obstacle(py::module_& m);      // obstacle.cpp
 
 }  // namespace woven::python

@@ -1,5 +1,7 @@
 // Python values to woven's and back, warnings, and a command's code run from Python (bindings.hpp).
+#include <chrono>
 #include <iostream>
+#include <mutex>
 #include <sstream>
 
 #include "bindings.hpp"
@@ -37,6 +39,7 @@ nlohmann::json value(py::handle v, const std::string& source, const std::string&
     }
     if (PyFloat_Check(v.ptr())) return PyFloat_AsDouble(v.ptr());
     if (PyUnicode_Check(v.ptr())) return v.cast<std::string>();
+    if (py::isinstance<Obstacle>(v)) return v.cast<const Obstacle&>().values;  // a scene's obstacle=[...]
     const bool container = PyDict_Check(v.ptr()) || PyList_Check(v.ptr()) || PyTuple_Check(v.ptr());
     if (container && depth >= kMaxDepth) throw fail("nested more than " + std::to_string(kMaxDepth) + " levels deep");
     if (PyDict_Check(v.ptr())) {
@@ -175,27 +178,115 @@ void warn(const std::vector<std::string>& warnings)
         if (PyErr_WarnEx(input_warning, w.c_str(), 1) != 0) throw py::error_already_set();
 }
 
-bool run_command(const std::function<void()>& f, std::string* out)
+namespace {
+
+std::timed_mutex g_call_mutex;
+thread_local int t_call_depth = 0;        ///< CallLocks held by this thread
+thread_local int t_callback_depth = 0;    ///< progress callbacks running on this thread
+
+}  // namespace
+
+CallLock::CallLock()
 {
+    if (t_callback_depth > 0)
+        throw RuntimeError("a woven call from inside a progress callback of a running woven call would wait for itself; "
+                           "call it after the running one returns (or from another thread)");
+    if (t_call_depth++ > 0) return;
+    try {
+        for (;;) {
+            {
+                py::gil_scoped_release release;
+                if (g_call_mutex.try_lock_for(std::chrono::milliseconds(50))) break;
+            }
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        }
+    } catch (...) {
+        --t_call_depth;
+        throw;
+    }
+}
+
+CallLock::~CallLock()
+{
+    if (--t_call_depth == 0) g_call_mutex.unlock();
+}
+
+InCallback::InCallback() { ++t_callback_depth; }
+InCallback::~InCallback() { --t_callback_depth; }
+
+namespace {
+
+/// A cli::ProgressEvent as the dict a progress callable gets.
+py::dict event_dict(const cli::ProgressEvent& e)
+{
+    py::dict d;
+    d["event"] = e.event;
+    const std::string kind = e.event;
+    if (kind == "activity") {
+        d["label"] = e.label;
+        d["detail"] = e.detail;
+    } else {
+        d["step"] = e.step;
+        if (kind == "step") {
+            d["max_steps"] = e.max_steps;
+            d["energy_J"] = e.energy_J;
+        } else {
+            d["iteration"] = e.iteration;
+        }
+        d["residual"] = e.residual;
+        d["tolerance"] = e.tolerance;
+    }
+    d["fraction"] = e.fraction;
+    d["wall_s"] = e.wall_s;
+    return d;
+}
+
+}  // namespace
+
+bool call_progress(py::handle progress, py::dict info, std::optional<py::error_already_set>& error)
+{
+    try {
+        const InCallback in_callback;
+        const py::object answer = progress(info);
+        return answer.ptr() != Py_False;
+    } catch (py::error_already_set& e) {
+        if (!e.matches(PyExc_KeyboardInterrupt) && !error) error = std::move(e);
+        return false;
+    }
+}
+
+bool run_command(const std::function<void()>& f, std::string* out, py::handle progress)
+{
+    const CallLock lock;
+    if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw py::type_error("progress must be callable or None");
     bool interrupted = false;
     std::string err;
     std::exception_ptr failure;
+    std::optional<py::error_already_set> callback_error;
     {
         Capture capture;
         cli::set_progress_shown(false);
         cli::set_interrupt_poll(&poll_python);
+        if (!progress.is_none())
+            cli::set_progress_sink([&](const cli::ProgressEvent& e) {
+                py::gil_scoped_acquire gil;
+                if (signal_seen()) return false;
+                return call_progress(progress, event_dict(e), callback_error);
+            });
         try {
             py::gil_scoped_release release;
             f();
         } catch (...) {
             failure = std::current_exception();
         }
+        cli::set_progress_sink({});
         interrupted = cli::interrupt_requested();
         cli::set_interrupt_poll(nullptr);
         cli::set_progress_shown(true);
         err = capture.err();
         if (out) *out = capture.out();
     }
+    if (callback_error) throw std::move(*callback_error);
     warn(printed_warnings(err));
     if (failure) std::rethrow_exception(failure);
     return interrupted;

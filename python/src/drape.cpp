@@ -1,5 +1,6 @@
 // woven.drape and woven.DrapeResult: `woven drape` in its stages (cli/drape_run.hpp).
 #include <chrono>
+#include <filesystem>
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -10,6 +11,7 @@
 #include "woven/cli/drape_run.hpp"
 #include "woven/cli/progress.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/values.hpp"
 
 namespace woven::python {
 
@@ -47,8 +49,10 @@ py::array_t<std::int32_t> faces_array(const DrapeResult& r)
     return a;
 }
 
-DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed, py::object threads,
-                  py::object max_steps, py::object perturb, py::object hysteresis, py::object progress)
+/// woven.drape's and woven.Drape's scene, fabric and options, checked and built as the command
+/// builds them (cli::prepare_drape). Call with a CallLock held.
+std::shared_ptr<cli::DrapeSetup> setup_drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed,
+                                             py::object threads, py::object max_steps, py::object perturb, py::object hysteresis)
 {
     cli::DrapeOptions o;
     cli::DrapeInputs in;
@@ -69,81 +73,180 @@ DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::obje
     o.max_steps = option_text(max_steps);
     o.perturb = option_text(perturb);
     o.hysteresis = option_text(hysteresis);
-    if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw py::type_error("drape(): progress must be callable or None");
-
-    // 1. Validate and build, as the command.
-    DrapeResult r;
+    std::shared_ptr<cli::DrapeSetup> setup;
     run_command([&] {
         if (given_scene) in.scene = given_scene->build(&warnings);
-        r.setup = cli::prepare_drape(o, warnings, std::move(in));
+        setup = cli::prepare_drape(o, warnings, std::move(in));
     });
     warn(warnings);
+    return setup;
+}
 
-    // 2. The solve, without the GIL; each step and Newton iteration takes it back briefly to
-    // look for Ctrl-C and to call `progress`.
-    const cli::DrapeSetup& setup = *r.setup;
-    const double tolerance = setup.scene.solver.residual_tolerance;
-    cli::Progress measure(setup.max_steps, tolerance);  // the progress bar's fraction (not drawn)
-    const auto start = std::chrono::steady_clock::now();
-    bool interrupted = false;
-    std::optional<py::error_already_set> error;
-    const auto report = [&](py::dict info) {
+/// The solver's callbacks for a Python progress callable: each step and Newton iteration takes
+/// the GIL back briefly to look for Ctrl-C and to call `progress`.
+class SolveCallbacks {
+public:
+    SolveCallbacks(py::object progress, const cli::DrapeSetup& setup)
+        : progress_(std::move(progress)), max_steps_(setup.max_steps), tolerance_(setup.scene.solver.residual_tolerance),
+          measure_(setup.max_steps, tolerance_), start_(std::chrono::steady_clock::now())
+    {
+        if (!progress_.is_none() && !PyCallable_Check(progress_.ptr())) throw py::type_error("progress must be callable or None");
+    }
+    sim::ProgressCallback on_step()
+    {
+        return [this](const sim::StepInfo& s) {
+            py::gil_scoped_acquire gil;
+            py::dict info;
+            info["event"] = "step";
+            info["step"] = s.step;
+            info["max_steps"] = max_steps_;
+            info["time_s"] = s.time;
+            info["energy_J"] = s.energy;
+            info["residual"] = s.max_residual_rel;
+            info["tolerance"] = tolerance_;
+            info["move_m"] = s.max_move;
+            info["fraction"] = measure_.fraction(s.max_residual_rel);
+            return report(info);
+        };
+    }
+    sim::IterationCallback on_iteration()
+    {
+        return [this](const sim::IterationInfo& i) {
+            py::gil_scoped_acquire gil;
+            py::dict info;
+            info["event"] = "iteration";
+            info["step"] = i.step;
+            info["iteration"] = i.iteration;
+            info["total_iterations"] = i.total_iterations;
+            info["time_step_s"] = i.time_step;
+            info["residual"] = i.residual_rel;
+            info["tolerance"] = i.tolerance;
+            return report(info);
+        };
+    }
+    bool interrupted() const { return interrupted_; }
+    /// Raises what the callable raised (other than KeyboardInterrupt), if it did.
+    void raise_error()
+    {
+        if (error_) throw std::move(*error_);
+    }
+
+private:
+    bool report(py::dict info)
+    {
         if (signal_seen()) {
-            interrupted = true;
+            interrupted_ = true;
             return false;
         }
-        if (progress.is_none()) return true;
-        info["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        try {
-            const py::object answer = progress(info);
-            if (answer.ptr() == Py_False) {
-                interrupted = true;
-                return false;
-            }
-        } catch (py::error_already_set& e) {
-            if (e.matches(PyExc_KeyboardInterrupt))
-                interrupted = true;
-            else
-                error = std::move(e);
-            return false;
-        }
-        return true;
-    };
-    const auto on_step = [&](const sim::StepInfo& s) {
-        py::gil_scoped_acquire gil;
-        py::dict info;
-        info["event"] = "step";
-        info["step"] = s.step;
-        info["max_steps"] = setup.max_steps;
-        info["time_s"] = s.time;
-        info["energy_J"] = s.energy;
-        info["residual"] = s.max_residual_rel;
-        info["tolerance"] = tolerance;
-        info["move_m"] = s.max_move;
-        info["fraction"] = measure.fraction(s.max_residual_rel);
-        return report(info);
-    };
-    const auto on_iteration = [&](const sim::IterationInfo& i) {
-        py::gil_scoped_acquire gil;
-        py::dict info;
-        info["event"] = "iteration";
-        info["step"] = i.step;
-        info["iteration"] = i.iteration;
-        info["total_iterations"] = i.total_iterations;
-        info["time_step_s"] = i.time_step;
-        info["residual"] = i.residual_rel;
-        info["tolerance"] = i.tolerance;
-        return report(info);
-    };
+        if (progress_.is_none()) return true;
+        info["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        if (call_progress(progress_, info, error_)) return true;
+        if (!error_) interrupted_ = true;
+        return false;
+    }
+
+    py::object progress_;
+    int max_steps_;
+    double tolerance_;
+    cli::Progress measure_;  ///< the progress bar's fraction (not drawn)
+    std::chrono::steady_clock::time_point start_;
+    bool interrupted_ = false;
+    std::optional<py::error_already_set> error_;
+};
+
+DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed, py::object threads,
+                  py::object max_steps, py::object perturb, py::object hysteresis, py::object progress)
+{
+    if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw py::type_error("drape(): progress must be callable or None");
+    // 1. Validate and build, as the command (one call at a time: bindings.hpp).
+    const CallLock lock;
+    DrapeResult r;
+    r.setup = setup_drape(scene, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis);
+
+    // 2. The solve, without the GIL.
+    const cli::DrapeSetup& setup = *r.setup;
+    SolveCallbacks callbacks(progress, setup);
     sim::Result result;
     {
         py::gil_scoped_release release;
-        result = cli::solve_drape(setup, on_step, on_iteration);
+        result = cli::solve_drape(setup, callbacks.on_step(), callbacks.on_iteration());
     }
-    if (error) throw std::move(*error);
+    callbacks.raise_error();
 
     // 3. The state reached, measured, and its report (report.json without `files`).
-    r.run = std::make_shared<cli::DrapeRun>(cli::finish_drape(setup, std::move(result), interrupted));
+    r.run = std::make_shared<cli::DrapeRun>(cli::finish_drape(setup, std::move(result), callbacks.interrupted()));
+    r.report = cli::drape_report_json(*r.run, {});
+    return r;
+}
+
+/// woven.Drape: a drape stepped from Python (cli::SteppedDrape), its obstacles replaceable
+/// between steps.
+struct Stepper {
+    std::shared_ptr<cli::DrapeSetup> setup;
+    std::unique_ptr<cli::SteppedDrape> run;  ///< after setup: it holds a reference to it
+    bool changed = false;                    ///< the obstacles changed since the last step
+    double changed_residual = 0;             ///< the residual against the new obstacles
+};
+
+std::shared_ptr<Stepper> make_stepper(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed,
+                                      py::object threads, py::object max_steps, py::object perturb, py::object hysteresis)
+{
+    const CallLock lock;
+    auto st = std::make_shared<Stepper>();
+    st->setup = setup_drape(scene, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis);
+    st->run = std::make_unique<cli::SteppedDrape>(*st->setup);
+    return st;
+}
+
+bool step(Stepper& st, int steps, py::object progress)
+{
+    const CallLock lock;
+    SolveCallbacks callbacks(progress, *st.setup);
+    const sim::ProgressCallback on_step = callbacks.on_step();
+    const sim::IterationCallback on_iteration = callbacks.on_iteration();
+    {
+        py::gil_scoped_release release;
+        // The solver runs on the drape's worker thread; this one looks for Ctrl-C meanwhile.
+        st.run->advance(steps, on_step, on_iteration, [] {
+            py::gil_scoped_acquire gil;
+            return !signal_seen();
+        });
+    }
+    callbacks.raise_error();
+    cli::require_finite_positions(st.run->positions(), "the drape");
+    st.changed = false;
+    return st.run->totals().converged;
+}
+
+void set_obstacles(Stepper& st, py::iterable obstacles)
+{
+    const CallLock lock;
+    geometry::ObstacleSet set;
+    std::vector<std::string> kinds;
+    const std::string base = std::filesystem::current_path().string();
+    for (py::handle h : obstacles) {
+        if (!py::isinstance<Obstacle>(h)) throw py::type_error("Drape.obstacles: expected woven.Obstacle objects");
+        const Obstacle& o = h.cast<const Obstacle&>();
+        std::string kind;
+        set.add(io::obstacle_from_values(o.values, kPythonObstacle, base, &kind));
+        kinds.push_back(kind);
+    }
+    cli::replace_obstacles(*st.setup, std::move(set), std::move(kinds), st.run->positions(), "Drape");
+    const cli::DrapeSetup& d = *st.setup;
+    st.changed = true;
+    st.changed_residual = sim::max_residual_relative(*d.model, d.scene.obstacles, st.run->positions(), d.problem.pinned,
+                                                     d.scene.solver.contact_distance, d.scene.solver.friction);
+}
+
+DrapeResult stepper_result(const Stepper& st)
+{
+    const CallLock lock;
+    DrapeResult r;
+    r.setup = st.setup;
+    sim::Result totals = st.run->totals();
+    totals.x = st.run->positions();
+    if (st.changed) totals.converged = false;
+    r.run = std::make_shared<cli::DrapeRun>(cli::finish_drape(*st.setup, std::move(totals), st.run->totals().interrupted));
     r.report = cli::drape_report_json(*r.run, {});
     return r;
 }
@@ -204,6 +307,66 @@ report written (with `files`: each file's size and SHA-256).)")
                    std::to_string(r.setup->grid.nu) + " x " + std::to_string(r.setup->grid.nv) + ", " +
                    (r.run->result.converged ? "converged" : "not converged") + (r.run->interrupted ? ", interrupted" : "") + ", " +
                    std::to_string(r.run->result.steps) + " steps>";
+        });
+
+    py::class_<Stepper, std::shared_ptr<Stepper>>(m, "Drape", R"(A drape advanced step by step, its obstacles movable between steps.
+
+Drape(scene, *, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis) takes
+woven.drape's arguments (checked as the command checks them) and holds the flat start;
+step(n) advances it by at most n solver steps. The solver runs on a worker thread that
+pauses after the steps asked for: step by step, the drape is woven.drape's, bit for bit. Once
+the run has ended (at rest or at the step limit), a further step() runs the solver again from
+the state reached (after moving an obstacle, say).
+
+>>> import woven
+>>> d = woven.Drape("cube", fabric="cotton", grid=11, seed=1, threads=1)
+>>> d.steps, d.positions.shape, d.converged
+(0, (121, 3), False)
+>>> while not d.converged and d.steps < 100:
+...     _ = d.step()
+>>> d.converged, d.residual <= d.tolerance
+(True, True)
+>>> d.obstacles
+['plane', 'box']
+>>> d.obstacles = [woven.Obstacle.plane(), woven.Obstacle.box((0, 0, 0.2), (0.5, 0.5, 0.4))]
+>>> d.converged
+False
+>>> top = d.positions[:, 2].max()
+>>> _ = d.step(50)
+>>> bool(d.positions[:, 2].max() < top - 0.05)
+True
+>>> d.result().report["steps"] == d.steps
+True
+
+Replacing the obstacles refuses (woven.InputError) a set that a free particle lies inside:
+the cloth is kept out of obstacles, not pushed out of them.)")
+        .def(py::init(&make_stepper), py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(), py::arg("grid") = py::none(),
+             py::arg("solver") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = py::none(),
+             py::arg("max_steps") = py::none(), py::arg("perturb") = py::none(), py::arg("hysteresis") = py::none())
+        .def("step", &step, py::arg("steps") = 1, py::kw_only(), py::arg("progress") = py::none(),
+             "Advances by at most `steps` solver steps (fewer when it comes to rest); progress as woven.drape's. Returns converged.")
+        .def_property_readonly("positions", [](const Stepper& st) { return points_array(st.run->positions()); },
+                               "Every grid particle, (nu * nv, 3) float64, metres, z up; particle (i, j) is row i + nu * j.")
+        .def_property_readonly("grid", [](const Stepper& st) { return py::make_tuple(st.setup->grid.nu, st.setup->grid.nv); }, "(nu, nv).")
+        .def_property_readonly("energy", [](const Stepper& st) { return st.run->totals().energy.total(); }, "The model's energy at the state, J.")
+        .def_property_readonly("residual", [](const Stepper& st) {
+            return st.changed ? st.changed_residual : st.run->totals().equilibrium.max_residual_rel;
+        },
+                               "The largest residual force on a free particle over its weight m g (report.json's max_residual_rel).")
+        .def_property_readonly("tolerance", [](const Stepper& st) { return st.setup->scene.solver.residual_tolerance; },
+                               "The residual at which the drape is at rest.")
+        .def_property_readonly("steps", [](const Stepper& st) { return st.run->totals().steps; }, "Solver steps taken so far.")
+        .def_property_readonly("time_s", [](const Stepper& st) { return st.run->totals().simulated_time; }, "Simulated time so far, s.")
+        .def_property_readonly("converged", [](const Stepper& st) { return !st.changed && st.run->totals().converged; },
+                               "True when the last step() ended at rest (False again after the obstacles change).")
+        .def_property("obstacles", [](const Stepper& st) { return st.setup->scene.obstacle_kinds; }, &set_obstacles,
+                      "The obstacles' types; set it to a list of woven.Obstacle to replace them between steps.")
+        .def("result", &stepper_result,
+             "The state reached as a woven.DrapeResult (its report, fields and save()); it shares this drape's scene.")
+        .def("__repr__", [](const Stepper& st) {
+            return "<woven.Drape " + st.setup->scene.name + ", " + std::to_string(st.setup->grid.nu) + " x " +
+                   std::to_string(st.setup->grid.nv) + ", " + std::to_string(st.run->totals().steps) + " steps" +
+                   (!st.changed && st.run->totals().converged ? ", converged>" : ">");
         });
 
     m.def("drape", &drape, py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(), py::arg("grid") = py::none(),

@@ -18,6 +18,7 @@ PYBIND11_MODULE(_woven, m)
                                               "the usual range, more threads than cores.",
                                               PyExc_UserWarning, nullptr);
     m.attr("InputWarning") = py::handle(input_warning);
+    bind_obstacle(m);
     bind_fabric_scene(m);
     bind_drape(m);
     bind_testers(m);
