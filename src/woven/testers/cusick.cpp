@@ -250,6 +250,20 @@ void add_guide_rods(geometry::ObstacleSet& obstacles, const CusickOptions& optio
     }
 }
 
+kes::FabricData stiffer_in_bending(const kes::FabricData& fabric, double factor)
+{
+    kes::FabricData f = fabric;
+    for (kes::Measured<kes::BendingSummary>* b : {&f.bending_warp, &f.bending_weft}) {
+        for (double& m : b->curve.y) m *= factor;
+        if (b->summary) {
+            b->summary->B *= factor;
+            b->summary->two_HB *= factor;
+        }
+    }
+    if (f.bias_B) *f.bias_B *= factor;
+    return f;
+}
+
 double guide_phase(std::uint64_t seed, int guides)
 {
     std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(guides));
@@ -261,7 +275,8 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
 {
     std::vector<CusickStart> starts;
     if (search.release) starts.push_back({});
-    for (int m : search.modes) starts.push_back({m, guide_phase(options.solver.seed, m)});
+    for (int m : search.modes) starts.push_back({m, guide_phase(options.solver.seed, m), 0});
+    for (double f : search.stiffer) starts.push_back({0, 0, f});
     CusickSearch out;
     out.states.resize(starts.size());
     std::atomic<std::size_t> next{0};
@@ -272,13 +287,22 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
             CusickOptions o = options;
             o.guides = starts[k];
             out.states[k].start = starts[k];
-            out.states[k].result = run_cusick(fabric, o, [&](const sim::StepInfo& s) {
+            const auto step = [&](const sim::StepInfo& s) {
                 if (stop) return false;
                 if (!progress) return true;
                 const std::lock_guard<std::mutex> lock(progress_mutex);
                 if (!progress(s)) stop = true;
                 return !stop.load();
-            });
+            };
+            int stages = 0;
+            if (starts[k].stiffer > 0) {  // the stiffer copy first, the fabric from its rest
+                const CusickResult stiff = run_cusick(stiffer_in_bending(fabric, starts[k].stiffer), o, step);
+                o.start = stiff.drape.x;
+                stages = stiff.stages;
+                if (stiff.drape.interrupted) stop = true;
+            }
+            out.states[k].result = run_cusick(fabric, o, step);
+            out.states[k].result.stages += stages;
             if (out.states[k].result.drape.interrupted) stop = true;
         }
     };

@@ -85,9 +85,13 @@ inline constexpr double kCusickLowerStep = 0.01;
 /// the release onto `guides` guide rods radiating under the overhang, the first at `phase_rad`
 /// from the warp towards the weft, which hold the falling overhang up in as many ridges (nodes);
 /// once it rests on them they are taken away and it settles to rest on its own.
+/// Or (stiffer > 1) the continuation from a stiffer copy of the fabric: its bending curves
+/// (warp, weft, bias) times `stiffer` released and draped to rest first, then the fabric itself
+/// from there (a stiff fabric folds into fewer nodes; the state keeps them where they are stable).
 struct CusickStart {
     int guides = 0;
     double phase_rad = 0;
+    double stiffer = 0;
 };
 
 /// The instrument's settings (SI).
@@ -190,6 +194,7 @@ struct CusickState {
 struct CusickSearchOptions {
     bool release = true;     ///< the release from flat is one of the starts
     std::vector<int> modes;  ///< the guide counts (2 .. 12 for woven cusick --search)
+    std::vector<double> stiffer;  ///< the continuations' bending factors (4 and 16 for woven cusick --search)
     int jobs = 1;            ///< starts run at once (each on options.solver.threads threads)
 };
 struct CusickSearch {
@@ -200,6 +205,9 @@ struct CusickSearch {
 
 /// The phase of the n-guide start of a seed: uniform in [0, 2 pi / n) from (seed, n), mt19937_64.
 double guide_phase(std::uint64_t seed, int guides);
+
+/// The fabric with its bending curves (warp, weft and the bias B) times `factor` (> 0).
+kes::FabricData stiffer_in_bending(const kes::FabricData& fabric, double factor);
 
 /// Runs the search. `progress` may be called from several threads at once (jobs > 1) and
 /// returns false to stop every start.
