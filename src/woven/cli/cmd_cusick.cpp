@@ -154,14 +154,9 @@ int run_cusick(const CusickCommandOptions& o)
         co.model.shear_law = parse_shear_law(*o.shear_law, "--shear-law");
     if (o.hysteresis) co.model.hysteresis = parse_hysteresis(*o.hysteresis, "--hysteresis");
     if (o.protocol)
-        co.protocol = parse_choice(*o.protocol, "--protocol", {"release", "lowered"}) == 0 ? testers::CusickProtocol::RELEASE
-                                                                                          : testers::CusickProtocol::LOWERED;
+        co.protocol = parse_choice(*o.protocol, "--protocol", testers::kCusickProtocolNames);
     if (o.shakes) co.shakes = static_cast<int>(parse_integer(*o.shakes, "--shakes", 0, 100));
-    if (o.clamp) {
-        if (*o.clamp == "pinned") co.clamp = testers::CusickClamp::PINNED;
-        else if (*o.clamp == "discs") co.clamp = testers::CusickClamp::DISCS;
-        else throw InputError(kCommandLine, "--clamp", "expected pinned or discs, got '" + *o.clamp + "'");
-    }
+    if (o.clamp) co.clamp = parse_choice(*o.clamp, "--clamp", testers::kCusickClampNames);
     if (o.clamp_margin) {
         if (co.clamp != testers::CusickClamp::PINNED)
             throw InputError(kCommandLine, "--clamp-margin", "expected only with --clamp pinned");

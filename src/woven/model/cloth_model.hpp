@@ -40,6 +40,10 @@ struct EnergyTerms {
 
 /// The shear law of ModelOptions::shear_law.
 enum class ShearLaw { DEEMBEDDED, MEASURED };
+/// The laws' names: "deembedded", "measured" (scene files, the command line, reports).
+inline constexpr std::array<Named<ShearLaw>, 2> kShearLawNames{{{ShearLaw::DEEMBEDDED, "deembedded"}, {ShearLaw::MEASURED, "measured"}}};
+/// Its name in kShearLawNames.
+inline const char* to_string(ShearLaw law) { return name_of(kShearLawNames, law); }
 
 /// Model settings beyond the fabric (SI).
 struct ModelOptions {

@@ -44,14 +44,9 @@ private:
 
 }  // namespace
 
-const char* to_string(SolverKind kind) { return kind == SolverKind::FAST ? "fast" : "paper"; }
+const char* to_string(SolverKind kind) { return name_of(kSolverKindNames, kind); }
 
-std::optional<SolverKind> solver_kind_from_string(std::string_view name)
-{
-    for (SolverKind k : {SolverKind::FAST, SolverKind::PAPER})
-        if (name == to_string(k)) return k;
-    return std::nullopt;
-}
+std::optional<SolverKind> solver_kind_from_string(std::string_view name) { return value_named(kSolverKindNames, name); }
 
 Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress, const IterationCallback& iteration)
 {

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "woven/common/choice.hpp"
 #include "woven/common/types.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/model/cloth_model.hpp"
@@ -22,9 +23,11 @@ namespace woven::sim {
 
 enum class SolverKind { FAST, PAPER };
 
-/// "fast" or "paper".
+/// The solvers' names: "fast", "paper" (scene files, the command line, reports).
+inline constexpr std::array<Named<SolverKind>, 2> kSolverKindNames{{{SolverKind::FAST, "fast"}, {SolverKind::PAPER, "paper"}}};
+/// Its name in kSolverKindNames.
 const char* to_string(SolverKind kind);
-/// The kind named "fast" or "paper"; nullopt for any other name.
+/// The kind named in kSolverKindNames; nullopt for any other name.
 std::optional<SolverKind> solver_kind_from_string(std::string_view name);
 /// The step limit when SolverOptions::max_steps is 0: fast 400 steps, paper 200000.
 int default_max_steps(SolverKind kind);
