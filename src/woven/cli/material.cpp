@@ -49,4 +49,9 @@ model::Hysteresis parse_hysteresis(const std::string& text, const std::string& o
     return parse_choice(text, option, model::kHysteresisNames);
 }
 
+model::BiasBending parse_bias_bending(const std::string& text, const std::string& option)
+{
+    return parse_choice(text, option, model::kBiasBendingNames);
+}
+
 }  // namespace woven::cli
