@@ -279,8 +279,8 @@ int run_cusick(const CusickCommandOptions& o)
             nlohmann::json states = nlohmann::json::array();
             for (const testers::CusickState& st : found.states) {
                 const testers::CusickResult& sr = st.result;
-                states.push_back({{"start", st.start.mode > 0 ? "mode " + std::to_string(st.start.mode) : std::string("release")},
-                                  {"mode", st.start.mode},
+                states.push_back({{"start", st.start.guides > 0 ? std::to_string(st.start.guides) + " guides" : std::string("release")},
+                                  {"guides", st.start.guides},
                                   {"phase_deg", st.start.phase_rad * 180 / M_PI},
                                   {"drape_coefficient_percent", sr.shadow.drape_coefficient_percent},
                                   {"nodes", sr.shadow.nodes.count()},
@@ -431,9 +431,10 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                     "fabric's bias bending rigidity, measured or estimated)");
     sub->add_option("--start", o->start, "Start from this cusick.obj (of the same specimen and spacing) instead of the flat start");
     sub->add_flag("--search", o->search,
-                  "Search the rest states: the release and one start per imposed mode (--modes), each draped to rest; the "
-                  "prediction is the state of lowest energy, every state listed in cusick.json");
-    sub->add_option("--modes", o->modes, "--search: the imposed fold counts, a range 2-12 (the default) or a list 3,5,7");
+                  "Search the rest states: the release and one start per guide count (--modes: the overhang first falls onto "
+                  "that many guide rods under it, which are then taken away), each draped to rest; the prediction is the "
+                  "state of lowest energy, every state listed in cusick.json");
+    sub->add_option("--modes", o->modes, "--search: the guide counts, a range 2-12 (the default) or a list 3,5,7");
     sub->add_option("--jobs", o->jobs, "--search: starts run at once (default 1; each on --threads threads)");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");

@@ -179,8 +179,12 @@ nlohmann::json folds_json(const analysis::FoldAnalysis& fa, const analysis::Fold
     f["corners"] = nlohmann::json::array();
     for (int c = 0; c < 4; ++c) {
         nlohmann::json corner{{"corner", c}, {"billows", nlohmann::json::array()}, {"angles_deg", nlohmann::json::array()},
-                              {"standout_m", nlohmann::json::array()}};
+                              {"standout_m", nlohmann::json::array()}, {"structure", nlohmann::json::array()},
+                              {"asymmetry_deg", nlohmann::json::array()}};
         for (const auto& s : fa.sections) {
+            const std::vector<analysis::Billow> at = s.at_corner(c);
+            corner["structure"].push_back(analysis::to_string(analysis::corner_structure(at)));
+            corner["asymmetry_deg"].push_back(num(analysis::corner_asymmetry_deg(at)));
             nlohmann::json angles = nlohmann::json::array(), standout = nlohmann::json::array();
             for (const auto& b : s.at_corner(c)) {
                 angles.push_back(num(b.angle_deg));

@@ -87,6 +87,15 @@ const char* protocol_name(CusickProtocol protocol);
 /// LOWERED: the smallest automatic plate step (m), 2 spacings at the default spacing.
 inline constexpr double kCusickLowerStep = 0.01;
 
+/// A start of the search of rest states (search_cusick): the release from flat (guides 0), or
+/// the release onto `guides` guide rods radiating under the overhang, the first at `phase_rad`
+/// from the warp towards the weft, which hold the falling overhang up in as many ridges (nodes);
+/// once it rests on them they are taken away and it settles to rest on its own.
+struct CusickStart {
+    int guides = 0;
+    double phase_rad = 0;
+};
+
 /// The instrument's settings (SI).
 struct CusickOptions {
     double specimen_diameter_m = 0.30;  ///< the standard's; 0.24 and 0.36 m are also used
@@ -121,6 +130,8 @@ struct CusickOptions {
     /// A start state replacing the flat one (one position per grid particle, m): a drape read
     /// back (`--start`); the clamp's particles keep the setup's. Empty: the flat start.
     Positions start;
+    /// RELEASE: first onto guide rods (CusickStart), then without them.
+    CusickStart guides;
     model::ModelOptions model;  ///< its hysteresis: LOADING_BRANCH (default) or FRICTION (the fast solver's)
     sim::SolverOptions solver;  ///< its seed and perturbation make the run-to-run variation
     analysis::DrapeShadowOptions shadow;
@@ -159,29 +170,19 @@ struct CusickResult {
     double spacing_m = 0;
     double specimen_area_m2 = 0;  ///< W x this is the specimen's mass
     int particles = 0;            ///< kept particles
-    int stages = 1;               ///< drapes run: LOWERED the plate's stages and the settling, and 2 per shake and 1 after
+    int stages = 1;               ///< drapes run: LOWERED the plate's stages and the settling, guides 2, and 2 per shake and 1 after
 };
 
-/// A start of the search of rest states (search_cusick): the release from flat (mode 0) or the
-/// overhang shaped with `mode` folds, the first at `phase_rad` from the warp (mode_start).
-struct CusickStart {
-    int mode = 0;
-    double phase_rad = 0;
-};
+/// The guide rods: thin cylinders (kGuideRodRadius) from kGuideRodInset beyond the disc's rim
+/// to the specimen's radius, kGuideRodDrop below the disc's top at the rim and sloping down at
+/// kGuideRodSlopeDeg, at angles phase + 2 pi k / guides.
+inline constexpr double kGuideRodRadius = 0.002;    ///< m
+inline constexpr double kGuideRodInset = 0.01;      ///< m
+inline constexpr double kGuideRodDrop = 0.01;       ///< m
+inline constexpr double kGuideRodSlopeDeg = 20.0;   ///< degrees below the horizontal
 
-/// The imposed-mode start: the overhang beyond the clamp as a cone drooping at beta below the
-/// horizontal with `mode` folds along its normal, each ring of rest radius r at cone radius rho
-/// folded with the amplitude that keeps its length, a = (2 rho / n) sqrt(r / rho - 1) (a ring of
-/// radius rho waved by a cos(n theta) is 2 pi rho (1 + (a n / rho)^2 / 4) long): a nearly
-/// isometric folded start. beta is the steepest in kModeDroopDeg whose hem amplitude stays
-/// within kModeMaxAmplitude of the overhang (2 folds droop little, 12 hang steep). The clamp's
-/// particles keep setup.initial's positions.
-Positions mode_start(const CusickSetup& setup, const CusickOptions& options, const CusickStart& start);
-
-/// The droops tried for a mode start (degrees below the horizontal), steepest first, and the
-/// largest fold amplitude at the hem as a fraction of the overhang.
-inline constexpr double kModeDroopDeg[] = {70, 60, 50, 40, 30, 20, 10};
-inline constexpr double kModeMaxAmplitude = 0.6;
+/// Adds the guide rods of `start` (none for guides 0) to `obstacles`.
+void add_guide_rods(geometry::ObstacleSet& obstacles, const CusickOptions& options, double disc_top_z, const CusickStart& start);
 
 /// One rest state the search found.
 struct CusickState {
@@ -189,23 +190,22 @@ struct CusickState {
     CusickResult result;
 };
 
-/// The search of rest states (issue: a drape has many; the release from flat lands in a high
-/// one): the release and one start per imposed mode, each draped to rest by run_cusick's
-/// protocol, every state kept. The prediction is the state of lowest energy (docs/CUSICK.md,
+/// The search of rest states (a drape has many; the release from flat lands in a high one): the
+/// release and one start per guide count, each draped to rest by run_cusick, every state kept. The prediction is the state of lowest energy (docs/CUSICK.md,
 /// "The search of rest states": why).
 struct CusickSearchOptions {
     bool release = true;     ///< the release from flat is one of the starts
-    std::vector<int> modes;  ///< the imposed modes (2 .. 12 for woven cusick --search)
+    std::vector<int> modes;  ///< the guide counts (2 .. 12 for woven cusick --search)
     int jobs = 1;            ///< starts run at once (each on options.solver.threads threads)
 };
 struct CusickSearch {
-    std::vector<CusickState> states;  ///< in the order of the starts: the release, then the modes
+    std::vector<CusickState> states;  ///< in the order of the starts: the release, then the guide counts
     int prediction = -1;              ///< the state of lowest total energy
     bool interrupted = false;
 };
 
-/// The phase of the mode-n start of a seed: uniform in [0, 2 pi / n) from (seed, n), mt19937_64.
-double mode_phase(std::uint64_t seed, int mode);
+/// The phase of the n-guide start of a seed: uniform in [0, 2 pi / n) from (seed, n), mt19937_64.
+double guide_phase(std::uint64_t seed, int guides);
 
 /// Runs the search. `progress` may be called from several threads at once (jobs > 1) and
 /// returns false to stop every start.
