@@ -185,8 +185,7 @@ int run_cusick(const CusickCommandOptions& o)
         co.model.shear_law = parse_shear_law(*o.shear_law, "--shear-law");
     if (o.hysteresis) co.model.hysteresis = parse_hysteresis(*o.hysteresis, "--hysteresis");
     if (o.protocol)
-        co.protocol = parse_choice(*o.protocol, "--protocol", {"release", "lowered"}) == 0 ? testers::CusickProtocol::RELEASE
-                                                                                          : testers::CusickProtocol::LOWERED;
+        co.protocol = parse_choice(*o.protocol, "--protocol", testers::kCusickProtocolNames);
     if (o.shakes) co.shakes = static_cast<int>(parse_integer(*o.shakes, "--shakes", 0, 100));
     if (o.bias) co.model.bias_bending = parse_bias_bending(*o.bias, "--bias");
     testers::CusickSearchOptions search;
@@ -198,11 +197,7 @@ int run_cusick(const CusickCommandOptions& o)
         search.stiffer = {4.0, 16.0};
         if (o.jobs) search.jobs = static_cast<int>(parse_integer(*o.jobs, "--jobs", 1, 64));
     }
-    if (o.clamp) {
-        if (*o.clamp == "pinned") co.clamp = testers::CusickClamp::PINNED;
-        else if (*o.clamp == "discs") co.clamp = testers::CusickClamp::DISCS;
-        else throw InputError(kCommandLine, "--clamp", "expected pinned or discs, got '" + *o.clamp + "'");
-    }
+    if (o.clamp) co.clamp = parse_choice(*o.clamp, "--clamp", testers::kCusickClampNames);
     if (o.clamp_margin) {
         if (co.clamp != testers::CusickClamp::PINNED)
             throw InputError(kCommandLine, "--clamp-margin", "expected only with --clamp pinned");

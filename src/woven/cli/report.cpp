@@ -88,14 +88,14 @@ nlohmann::json energy_json(const model::EnergyTerms& e)
 nlohmann::json model_json(const model::ClothModel& model, const model::ModelOptions& o)
 {
     const bool convergent = model.discretization() == model::Discretization::CONVERGENT;
-    return {{"discretization", convergent ? "convergent" : "paper"},
+    return {{"discretization", model::to_string(model.discretization())},
             {"bending_form", o.bending_form == model::BendingForm::WORK ? "work" : "secant"},
-            {"shear_law", o.shear_law == model::ShearLaw::MEASURED ? "measured" : "deembedded"},
+            {"shear_law", model::to_string(o.shear_law)},
             {"shear_scale", model.shear_scale()},
             {"hysteresis", model::to_string(model.hysteresis())},
             {"bias_bending", model::to_string(model.twist_rigidity() > 0 ? model::BiasBending::FABRIC : model::BiasBending::THREADS)},
             {"twist_rigidity_N_m", model.twist_rigidity()},
-            {"gram_force", o.gram_force == units::GramForce::PAPER ? "paper" : "standard"},
+            {"gram_force", units::to_string(o.gram_force)},
             {"dyn_per_gram_force", units::dyn_per_gram_force(o.gram_force)},
             {"tensile_stiffness_N_m", convergent ? model.spacing().tensile : 0.0},
             {"C0_J", model.spacing().C0},

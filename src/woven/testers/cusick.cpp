@@ -52,9 +52,9 @@ void add_instrument(geometry::ObstacleSet& set, const CusickOptions& o, double d
 
 }  // namespace
 
-const char* clamp_name(CusickClamp clamp) { return clamp == CusickClamp::DISCS ? "discs" : "pinned"; }
+const char* clamp_name(CusickClamp clamp) { return name_of(kCusickClampNames, clamp); }
 
-const char* protocol_name(CusickProtocol protocol) { return protocol == CusickProtocol::LOWERED ? "lowered" : "release"; }
+const char* protocol_name(CusickProtocol protocol) { return name_of(kCusickProtocolNames, protocol); }
 
 double lower_step_m(const CusickOptions& o)
 {

@@ -21,6 +21,7 @@
 #include <cstdint>
 
 #include "woven/analysis/drape_shadow.hpp"
+#include "woven/common/choice.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
 #include "woven/kes/fabric.hpp"
@@ -48,7 +49,9 @@ enum class CusickClamp {
              ///< by contact between the support disc and a clamp disc of radius r_d (obstacles)
 };
 
-/// "pinned" or "discs".
+/// The clamps' names: "pinned", "discs" (the command line, cusick.json).
+inline constexpr std::array<Named<CusickClamp>, 2> kCusickClampNames{{{CusickClamp::PINNED, "pinned"}, {CusickClamp::DISCS, "discs"}}};
+/// Its name in kCusickClampNames.
 const char* clamp_name(CusickClamp clamp);
 
 /// DISCS: the pinned core ends this many spacings inside the disc's rim; the ring beyond it is
@@ -75,7 +78,10 @@ enum class CusickProtocol {
     LOWERED,
 };
 
-/// "release" or "lowered".
+/// The protocols' names: "release", "lowered" (the command line, cusick.json).
+inline constexpr std::array<Named<CusickProtocol>, 2> kCusickProtocolNames{{{CusickProtocol::RELEASE, "release"},
+                                                                            {CusickProtocol::LOWERED, "lowered"}}};
+/// Its name in kCusickProtocolNames.
 const char* protocol_name(CusickProtocol protocol);
 
 /// LOWERED: the smallest automatic plate step (m), 2 spacings at the default spacing.
