@@ -72,8 +72,9 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("--fabric", o->fabric, "Fabric: a built-in name or a fabric .toml file (overrides the scene's)");
     sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)")->type_name("INT");
     sub->add_option("--solver", o->solver, "Solver: fast (implicit steps, projected Newton) or paper (Sec. 3)")
-        ->check(CLI::IsMember({"fast", "paper"}));
-    sub->add_option("--seed", o->seed, "Random seed: the fast solver's start perturbation (--perturb), the paper solver's stochastic phase")->type_name("INT");
+        ->check(CLI::IsMember(names_of(sim::kSolverKindNames)));
+    sub->add_option("--seed", o->seed, "Random seed: the fast solver's start perturbation (--perturb), the paper solver's stochastic phase")
+        ->type_name("INT");
     sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)")->type_name("INT");
     sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)")->type_name("INT");
     sub->add_option("--perturb", o->perturb,
@@ -82,6 +83,12 @@ void add_drape_command(CLI::App& app, int& exit_code)
                     "loading-branch (each KES curve's loading branch as an elastic energy) or friction (the mean line plus friction "
                     "inside the weave, its slip state updated after each step: the drape remembers its path; fast solver); "
                     "overrides the scene's [model] hysteresis");
+    sub->add_option("--bias", o->bias,
+                    "threads (the paper's: bending along the warp and weft alone) or fabric (and the twisting that gives the "
+                    "fabric's bias bending rigidity, measured or estimated); overrides the scene's [model] bias_bending");
+    sub->add_option("--start", o->start,
+                    "Start from this drape.obj (of the same scene and grid, e.g. an earlier drape's) instead of the scene's "
+                    "flat start; its SHA-256 goes into report.json");
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->add_flag("--ply-ascii", o->ply_ascii, "Write drape.ply as ASCII PLY (default: binary little-endian)");

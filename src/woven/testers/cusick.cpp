@@ -1,6 +1,10 @@
 #include "woven/testers/cusick.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <limits>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -48,9 +52,9 @@ void add_instrument(geometry::ObstacleSet& set, const CusickOptions& o, double d
 
 }  // namespace
 
-const char* clamp_name(CusickClamp clamp) { return clamp == CusickClamp::DISCS ? "discs" : "pinned"; }
+const char* clamp_name(CusickClamp clamp) { return name_of(kCusickClampNames, clamp); }
 
-const char* protocol_name(CusickProtocol protocol) { return protocol == CusickProtocol::LOWERED ? "lowered" : "release"; }
+const char* protocol_name(CusickProtocol protocol) { return name_of(kCusickProtocolNames, protocol); }
 
 double lower_step_m(const CusickOptions& o)
 {
@@ -161,6 +165,13 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     // One stage: a drape to rest from the state reached, the slip states carried on; r.drape
     // holds the last stage's state with steps, iterations and times summed over the stages.
     Positions x = setup.initial;
+    if (!options.start.empty()) {
+        if (options.start.size() != setup.initial.size())
+            throw InputError(kSource, "start", "expected " + std::to_string(setup.initial.size()) + " positions (the setup's grid)");
+        x = options.start;
+        for (int p : setup.clamped) x[p] = setup.initial[p];
+        for (int p : setup.sandwiched) x[p] = setup.initial[p];
+    }
     r.stages = 0;
     const auto stage = [&](const geometry::ObstacleSet& obstacles) {
         problem.obstacles = &obstacles;
@@ -183,7 +194,13 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     };
     bool going = true;
     if (options.protocol == CusickProtocol::RELEASE) {
-        going = stage(setup.obstacles);
+        if (options.guides.guides > 0) {  // first onto the guide rods, then on its own
+            geometry::ObstacleSet guided;
+            add_instrument(guided, options, setup.disc_top_z, setup.clamp_disc_bottom_z);
+            add_guide_rods(guided, options, setup.disc_top_z, options.guides);
+            going = stage(guided);
+        }
+        if (going) going = stage(setup.obstacles);
     } else {
         // LOWERED: the overhang on a plate lowered in stages, each a drape to rest from the last,
         // down to where the hem hangs free (R - r_d below the disc's top); the last stage
@@ -216,6 +233,94 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     r.shadow = analysis::measure_drape(r.surface, Vec2::Zero(), 0.5 * options.disc_diameter_m, 0.5 * options.specimen_diameter_m,
                                        setup.cut.total_area, options.shadow);
     return r;
+}
+
+void add_guide_rods(geometry::ObstacleSet& obstacles, const CusickOptions& options, double disc_top_z, const CusickStart& start)
+{
+    const double R = 0.5 * options.specimen_diameter_m, rd = 0.5 * options.disc_diameter_m;
+    const double slope = kGuideRodSlopeDeg * std::numbers::pi / 180;
+    const double r0 = rd + kGuideRodInset, length = (R - r0) / std::cos(slope);
+    for (int k = 0; k < start.guides; ++k) {
+        // Angles from the warp (+y) towards the weft (+x), as the shadow's nodes.
+        const double a = start.phase_rad + 2 * std::numbers::pi * k / start.guides;
+        const Vec2 radial(std::sin(a), std::cos(a));
+        const Vec3 base(r0 * radial.x(), r0 * radial.y(), disc_top_z - kGuideRodDrop);
+        const Vec3 axis(std::cos(slope) * radial.x(), std::cos(slope) * radial.y(), -std::sin(slope));
+        obstacles.add(std::make_unique<geometry::Cylinder>(base, kGuideRodRadius, length, axis, 16));
+    }
+}
+
+kes::FabricData stiffer_in_bending(const kes::FabricData& fabric, double factor)
+{
+    kes::FabricData f = fabric;
+    for (kes::Measured<kes::BendingSummary>* b : {&f.bending_warp, &f.bending_weft}) {
+        for (double& m : b->curve.y) m *= factor;
+        if (b->summary) {
+            b->summary->B *= factor;
+            b->summary->two_HB *= factor;
+        }
+    }
+    if (f.bias_B) *f.bias_B *= factor;
+    return f;
+}
+
+double guide_phase(std::uint64_t seed, int guides)
+{
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(guides));
+    return uniform01(rng) * 2 * std::numbers::pi / guides;
+}
+
+CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions& search,
+                           const sim::ProgressCallback& progress)
+{
+    std::vector<CusickStart> starts;
+    if (search.release) starts.push_back({});
+    for (int m : search.modes) starts.push_back({m, guide_phase(options.solver.seed, m), 0});
+    for (double f : search.stiffer) starts.push_back({0, 0, f});
+    CusickSearch out;
+    out.states.resize(starts.size());
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::mutex progress_mutex;
+    const auto worker = [&] {
+        for (std::size_t k = next++; k < starts.size() && !stop; k = next++) {
+            CusickOptions o = options;
+            o.guides = starts[k];
+            out.states[k].start = starts[k];
+            const auto step = [&](const sim::StepInfo& s) {
+                if (stop) return false;
+                if (!progress) return true;
+                const std::lock_guard<std::mutex> lock(progress_mutex);
+                if (!progress(s)) stop = true;
+                return !stop.load();
+            };
+            int stages = 0;
+            if (starts[k].stiffer > 0) {  // the stiffer copy first, the fabric from its rest
+                const CusickResult stiff = run_cusick(stiffer_in_bending(fabric, starts[k].stiffer), o, step);
+                o.start = stiff.drape.x;
+                stages = stiff.stages;
+                if (stiff.drape.interrupted) stop = true;
+            }
+            out.states[k].result = run_cusick(fabric, o, step);
+            out.states[k].result.stages += stages;
+            if (out.states[k].result.drape.interrupted) stop = true;
+        }
+    };
+    const int jobs = std::clamp(search.jobs, 1, static_cast<int>(std::max<std::size_t>(starts.size(), 1)));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < jobs; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+    out.interrupted = stop;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < out.states.size(); ++k) {
+        const double e = out.states[k].result.drape.energy.total();
+        if (out.states[k].result.particles > 0 && e < lowest) {
+            lowest = e;
+            out.prediction = static_cast<int>(k);
+        }
+    }
+    return out;
 }
 
 }  // namespace woven::testers
