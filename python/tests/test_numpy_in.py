@@ -109,6 +109,16 @@ def test_the_testers_return_arrays_take_progress_and_print_nothing(capfd):
     # False from progress stops the Cusick run as Ctrl-C does.
     stopped = woven.cusick("cotton", spacing_cm=2, threads=1, render=False, progress=lambda p: p["event"] != "step")
     assert stopped["interrupted"] is True
+    # The interpreter keeps its Ctrl-C: after cusick (whose command installs woven's own signal
+    # handlers), SIGINT still raises KeyboardInterrupt and stops a drape.
+    import signal
+
+    def sigint(p):
+        if p["event"] == "step" and p["step"] == 2:
+            signal.raise_signal(signal.SIGINT)
+
+    r = woven.drape("cube", grid=7, seed=1, threads=1, progress=sigint)
+    assert r.interrupted and r.steps == 2
 
 
 def test_the_docstrings_examples_run(tmp_path, monkeypatch):

@@ -80,7 +80,14 @@ void install_signal_handlers(void (*handler)(int))
     sigaction(SIGTERM, &sa, nullptr);
 }
 
-void install_interrupt_handler() { install_signal_handlers(on_signal); }
+void install_interrupt_handler()
+{
+    // Not under an interrupt poll (the Python module): the interpreter keeps its own Ctrl-C
+    // handling (woven.cusick replaced it for the rest of the process, and a second Ctrl-C then
+    // exited the interpreter).
+    if (g_poll.load() != nullptr) return;
+    install_signal_handlers(on_signal);
+}
 
 bool interrupt_requested()
 {

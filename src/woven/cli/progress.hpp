@@ -15,7 +15,8 @@ namespace woven::cli {
 
 /// Installs `handler` for SIGINT and SIGTERM (system calls restarted).
 void install_signal_handlers(void (*handler)(int));
-/// Installs the SIGINT and SIGTERM handlers (idempotent).
+/// Installs the SIGINT and SIGTERM handlers (idempotent); nothing while an interrupt poll is set
+/// (the Python module: the interpreter's handlers stay).
 void install_interrupt_handler();
 /// True once SIGINT or SIGTERM was received.
 bool interrupt_requested();
