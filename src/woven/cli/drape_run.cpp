@@ -2,6 +2,7 @@
 
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #include "woven/cli/args.hpp"
 #include "woven/cli/material.hpp"
@@ -179,9 +180,16 @@ void SteppedDrape::start(int budget, const sim::ProgressCallback* progress, cons
             if (stop_) return false;
             return !iteration_ || (*iteration_)(info);
         };
-        sim::Result r = sim::drape(problem, options, on_step, on_iteration);
+        sim::Result r;
+        std::exception_ptr failure;
+        try {
+            r = sim::drape(problem, options, on_step, on_iteration);
+        } catch (...) {
+            failure = std::current_exception();  // raised by advance() on the caller's thread
+        }
         const std::lock_guard lock(mutex_);
         run_result_ = std::move(r);
+        failure_ = failure;
         finished_ = true;
         cv_.notify_all();
     });
@@ -213,6 +221,10 @@ void SteppedDrape::advance(int steps, const sim::ProgressCallback& progress, con
     if (finished_) {
         lock.unlock();
         worker_.join();
+        if (failure_) {
+            ended_ = true;
+            std::rethrow_exception(std::exchange(failure_, nullptr));
+        }
         const sim::Result& r = run_result_;
         x_ = r.x;
         totals_.x = x_;

@@ -4,6 +4,7 @@
 // model, solve_drape runs the solver, finish_drape checks and measures the state reached,
 // drape_report_json makes report.json and write_drape_outputs writes the output set.
 #include <condition_variable>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -83,7 +84,7 @@ public:
     /// Runs at most `steps` (>= 1) more steps, fewer when the run ends first. `progress` and
     /// `iteration` are called on the worker as solve_drape's (false from either stops the run).
     /// `keep_waiting` is called on this thread about every 0.1 s meanwhile; false stops the run
-    /// at its next step or iteration.
+    /// at its next step or iteration. What the solver throws is thrown here.
     void advance(int steps, const sim::ProgressCallback& progress, const sim::IterationCallback& iteration,
                  const std::function<bool()>& keep_waiting);
 
@@ -114,6 +115,7 @@ private:
     const sim::ProgressCallback* progress_ = nullptr;
     const sim::IterationCallback* iteration_ = nullptr;
     sim::Result run_result_, base_;  ///< the worker's run; the totals before it
+    std::exception_ptr failure_;     ///< what the worker's run threw
 };
 
 /// Replaces the setup's obstacles (`kinds`: their types) between advances. InputError naming
