@@ -7,14 +7,15 @@ build=${1:?usage: run.sh BUILD [SECONDS] [TARGETS...]}
 seconds=${2:-60}
 shift $(( $# >= 2 ? 2 : $# ))
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf values corner_map output_set)
+[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf values corner_map output_set output_json sweep_plan glb_check)
 root=$(cd "$(dirname "$0")/.." && pwd)
 # Seeds are folders (libFuzzer runs a file argument once and stops); the corner map's are its
 # corpus, which holds a small valid map (docs/experiments' are 50 kB, over -max_len).
 declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets" [gltf]="$root/assets $root/fuzz/corpus/obj"
-                  [values]="" [corner_map]="" [output_set]="")
+                  [values]="" [corner_map]="" [output_set]="" [output_json]="" [sweep_plan]="$root/examples" [glb_check]="")
 declare -A dicts=([fabric]="-dict=$root/fuzz/toml.dict" [scene]="-dict=$root/fuzz/toml.dict" [obj]="-dict=$root/fuzz/obj.dict"
-                  [gltf]="-dict=$root/fuzz/obj.dict" [values]="-dict=$root/fuzz/values.dict" [corner_map]="-dict=$root/fuzz/json.dict" [output_set]="")
+                  [gltf]="-dict=$root/fuzz/obj.dict" [values]="-dict=$root/fuzz/values.dict" [corner_map]="-dict=$root/fuzz/json.dict" [output_set]=""
+                  [output_json]="-dict=$root/fuzz/json.dict" [sweep_plan]="-dict=$root/fuzz/toml.dict" [glb_check]="")
 status=0
 for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"

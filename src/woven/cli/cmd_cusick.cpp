@@ -188,6 +188,9 @@ int run_cusick(const CusickCommandOptions& o)
         const std::string what = e.what();
         throw InputError(kCommandLine, opt, what.substr(what.find(f + ": ") + f.size() + 2));
     }
+    // The drape estimate (one for every command that drapes), before anything large is built.
+    check_memory_estimate(estimate_drape_memory(setup.cut.count, threads_to_use(co.solver.threads)), setup.cut.count, kCommandLine,
+                          o.spacing_cm ? "--spacing-cm" : "--specimen-cm", "use a larger --spacing-cm");
     with_fabric_source(command_fabric_source(o.fabric, o.given_fabric), [&] { resolve_shear_law(fabric, co.model); });
     make_output_dir(out_dir);
     // Every file of the set, known before the runs: published together, cusick.json last
