@@ -240,7 +240,8 @@ int check_glb(std::string_view data, const std::string& source)
         throw InputError(source, "glb", "expected a glTF 2.0 binary of less than 4 GiB");
     if (!loader.LoadBinaryFromMemory(&m, &err, &warn, reinterpret_cast<const unsigned char*>(data.data()),
                                      static_cast<unsigned int>(data.size())))
-        throw InputError(source, "glb", "does not load as glTF 2.0 binary (" + (err.empty() ? std::string("tinygltf") : err) + ")");
+        // tinygltf's message may span lines (a JSON parse error quotes the parser's): one line.
+        throw InputError(source, "glb", "does not load as glTF 2.0 binary (" + printable(err.empty() ? std::string("tinygltf") : err, 200) + ")");
     if (m.meshes.empty()) throw InputError(source, "glb", "has no mesh");
     // What a viewer reads of each primitive: every accessor within its buffer view and buffer,
     // positions finite and within the accessor's bounds, every other float attribute finite,
