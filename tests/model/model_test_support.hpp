@@ -67,9 +67,10 @@ struct Curves {
 inline double cotton_C0(double sigma) { return model::choose_C0(kCottonW, units::kStandardGravity, sigma, 0.5); }
 
 /// A model on `grid` with only the terms in `on` (bending and trellis off: zero curves; gravity
-/// off: g = 0, and then C0 is cotton_C0 unless given). Spacing is always on.
+/// off: g = 0, and then C0 is cotton_C0 unless given). Spacing is always on. `twist`: the
+/// convergent discretisation with bias bending (the twist of the cells, Huber's estimate).
 inline model::ClothModel make_model(const model::Grid& grid, Terms on, const Curves& curves = Curves::fitted(), double C0 = -1,
-                                    model::BendingForm form = model::BendingForm::SECANT)
+                                    model::BendingForm form = model::BendingForm::SECANT, bool twist = false)
 {
     EXPECT_TRUE(on.spacing) << "the spacing terms cannot be switched off";
     kes::FittedFabric f;
@@ -86,6 +87,10 @@ inline model::ClothModel make_model(const model::Grid& grid, Terms on, const Cur
     o.gram_force = units::GramForce::PAPER;
     o.gravity = on.gravity ? units::kStandardGravity : 0.0;
     o.C0 = C0 > 0 ? C0 : cotton_C0(grid.sigma);
+    if (twist) {
+        o.discretization = model::Discretization::CONVERGENT;
+        o.bias_bending = model::BiasBending::FABRIC;
+    }
     return model::ClothModel(f, grid, o);
 }
 

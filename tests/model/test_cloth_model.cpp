@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <utility>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "model/model_test_support.hpp"
+#include "woven/common/error.hpp"
 #include "woven/model/cloth_model.hpp"
 
 namespace woven::test {
@@ -259,6 +261,87 @@ TEST(Singular, InfiniteEnergiesAreReportedNotSentToTheSink)
         EXPECT_TRUE(std::isinf(e.trellis));
         EXPECT_TRUE(sink9.g.allFinite());
         EXPECT_TRUE(sink9.H.allFinite());
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bias bending (model::BiasBending::FABRIC, beyond the paper).
+
+/// A convergent model of linear thread curves B_warp, B_weft (gf.cm^2/cm) with bias bending.
+ClothModel bias_model(const Grid& grid, double B_warp, double B_weft, std::optional<double> bias_B)
+{
+    kes::FittedFabric f;
+    f.name = "bias test";
+    f.areal_density_mg_cm2 = 15;
+    f.bending_warp = smooth_curve(B_warp, 0, 2.5);
+    f.bending_weft = smooth_curve(B_weft, 0, 2.5);
+    f.shear = zero_curve(8.0);
+    f.bias_B = bias_B;
+    model::ModelOptions o;
+    o.bending_form = model::BendingForm::WORK;
+    o.gravity = 0;
+    o.bias_bending = model::BiasBending::FABRIC;
+    return ClothModel(f, grid, o);
+}
+
+TEST(BiasBending, RigidityFromMeasurementOrHubersEstimate)
+{
+    // Huber: (B1 + B2) / 4 + sqrt(B1 B2) / 2; a balanced fabric is isotropic (B_45 = B).
+    EXPECT_DOUBLE_EQ(model::bias_rigidity_estimate(0.1, 0.1), 0.1);
+    EXPECT_NEAR(model::bias_rigidity_estimate(0.04, 0.16), 0.05 + 0.04, 1e-15);
+    const Grid grid{5, 5, 0.01};
+    const ClothModel estimated = bias_model(grid, 0.04, 0.16, std::nullopt);
+    const ClothModel measured = bias_model(grid, 0.04, 0.16, 0.12);
+    // T = 4 (B_45 - (B1 + B2) / 4) gf.cm^2/cm, in N m: x gf (N) / 100.
+    const double gf_cm = units::newton_per_gram_force(units::GramForce::PAPER) / units::kMToCm;
+    EXPECT_NEAR(estimated.twist_rigidity(), 4 * (0.09 - 0.05) * gf_cm, 1e-12 * gf_cm);
+    EXPECT_NEAR(measured.twist_rigidity(), 4 * (0.12 - 0.05) * gf_cm, 1e-12 * gf_cm);
+    EXPECT_EQ(static_cast<int>(measured.stencils().cells.size()), 16);
+    // Below the threads' own bias rigidity: refused, naming the field.
+    try {
+        bias_model(grid, 0.04, 0.16, 0.04);
+        ADD_FAILURE() << "a bias B below (B1 + B2) / 4 was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "bending.bias.B");
+    }
+}
+
+TEST(BiasBending, TheModelsPolarDiagramIsTheOrthotropicPlates)
+{
+    // A cylindrical bend of curvature k whose generators make angle alpha with the v thread (the
+    // warp) stores, per unit area, k^2 B(alpha) / 2 with B(alpha) = B_warp s^4 + B_weft c^4 +
+    // 2 H c^2 s^2, H = 2 B_45 - (B_warp + B_weft) / 2 (B_45 at 45 degrees): each thread sees the
+    // normal curvature k s^2 (warp) or k c^2 (weft), each cell the twist k c s. Each stencil
+    // stands for its weight's share of sigma^2 (the convergent discretisation's quadrature).
+    const Grid grid{21, 21, 0.005};
+    const double B_warp = 0.05, B_weft = 0.12, B_45 = 0.11;
+    const ClothModel m = bias_model(grid, B_warp, B_weft, B_45);
+    const double gf_cm = units::newton_per_gram_force(units::GramForce::PAPER) / units::kMToCm;
+    const double k = 2.0;  // 1/m: k sigma = 0.01
+    double w_warp = 0, w_weft = 0;
+    for (double w : m.stencils().warp_weights) w_warp += w;
+    for (double w : m.stencils().weft_weights) w_weft += w;
+    const double cells = static_cast<double>(m.stencils().cells.size());
+    const double H = 2 * B_45 - 0.5 * (B_warp + B_weft);
+    for (double alpha_deg : {0.0, 22.5, 45.0, 60.0, 90.0}) {
+        const double a = alpha_deg * std::numbers::pi / 180, c = std::cos(a), s = std::sin(a);
+        Positions x(grid.size());
+        for (int j = 0; j < grid.nv; ++j)
+            for (int i = 0; i < grid.nu; ++i) {
+                const double u = (i - 0.5 * (grid.nu - 1)) * grid.sigma, v = (j - 0.5 * (grid.nv - 1)) * grid.sigma;
+                const double across = c * u - s * v, along = s * u + c * v;  // across and along the generators
+                const double phi = k * across;
+                const Vec3 p(std::sin(phi) / k, 0, (1 - std::cos(phi)) / k);  // the arc: arclength = across
+                x[grid.index(i, j)] = Vec3(c * p.x() + s * along, -s * p.x() + c * along, p.z());
+            }
+        const EnergyTerms e = m.evaluate(x);
+        const double area = grid.sigma * grid.sigma, half_k2 = 0.5 * k * k * gf_cm * area;
+        const double warp = half_k2 * B_warp * std::pow(s, 4) * w_warp, weft = half_k2 * B_weft * std::pow(c, 4) * w_weft;
+        const double twist = half_k2 * 2 * H * c * c * s * s * cells;
+        const double scale = half_k2 * B_45 * cells;
+        EXPECT_NEAR(e.bending_warp, warp, 1e-3 * scale) << "alpha " << alpha_deg << " deg";
+        EXPECT_NEAR(e.bending_weft, weft, 1e-3 * scale) << "alpha " << alpha_deg << " deg";
+        EXPECT_NEAR(e.twist, twist, 1e-3 * scale) << "alpha " << alpha_deg << " deg";
     }
 }
 

@@ -24,7 +24,7 @@ using model::ClothModel;
 using model::Derivatives;
 using model::Grid;
 
-enum class Term { REPULSION, STRETCH, BENDING_WARP, BENDING_WEFT, TRELLIS, GRAVITY, TOTAL };
+enum class Term { REPULSION, STRETCH, BENDING_WARP, BENDING_WEFT, TRELLIS, GRAVITY, TWIST, TOTAL };
 const char* term_name(Term t)
 {
     switch (t) {
@@ -34,11 +34,12 @@ const char* term_name(Term t)
     case Term::BENDING_WEFT: return "bending_weft";
     case Term::TRELLIS: return "trellis";
     case Term::GRAVITY: return "gravity";
+    case Term::TWIST: return "twist";
     case Term::TOTAL: return "total";
     }
     return "?";
 }
-const Term kTerms[] = {Term::REPULSION, Term::STRETCH, Term::BENDING_WARP, Term::BENDING_WEFT, Term::TRELLIS, Term::GRAVITY, Term::TOTAL};
+const Term kTerms[] = {Term::REPULSION, Term::STRETCH, Term::BENDING_WARP, Term::BENDING_WEFT, Term::TRELLIS, Term::GRAVITY, Term::TWIST, Term::TOTAL};
 
 double term_value(const model::EnergyTerms& e, Term t)
 {
@@ -49,6 +50,7 @@ double term_value(const model::EnergyTerms& e, Term t)
     case Term::BENDING_WEFT: return e.bending_weft;
     case Term::TRELLIS: return e.trellis;
     case Term::GRAVITY: return e.gravity;
+    case Term::TWIST: return e.twist;
     case Term::TOTAL: return e.total();
     }
     return 0;
@@ -63,6 +65,7 @@ Term term_of(const Stencil& s)
     case model::Term::BENDING_WARP: return Term::BENDING_WARP;
     case model::Term::BENDING_WEFT: return Term::BENDING_WEFT;
     case model::Term::TRELLIS: return Term::TRELLIS;
+    case model::Term::TWIST: return Term::TWIST;
     }
     return Term::TOTAL;
 }
@@ -307,6 +310,14 @@ TEST_P(RandomGrid, ExactHessianMatchesFiniteDifferencesOfGradient)
     // Smooth single-segment curves: the fitted curves are only C1 at their junctions.
     check_hessians(make_model(grid, Terms::all(), Curves::smooth()), positions(), "smooth secant");
     check_hessians(make_model(grid, Terms::all(), Curves::smooth(), -1, model::BendingForm::WORK), positions(), "smooth work");
+}
+
+TEST_P(RandomGrid, TwistDerivativesMatchFiniteDifferences)
+{
+    // The convergent model with bias bending (the cells' twist, beyond the paper).
+    check_gradients(make_model(grid, Terms::all(), Curves::fitted(), -1, model::BendingForm::WORK, true), positions(), "twist fitted");
+    check_hessians(make_model(grid, Terms::all(), Curves::smooth(), -1, model::BendingForm::WORK, true), positions(), "twist smooth");
+    check_projected(make_model(grid, Terms::all(), Curves::smooth(), -1, model::BendingForm::WORK, true), positions(), "twist smooth");
 }
 
 TEST_P(RandomGrid, ProjectedHessianStencilsAreSymmetricPositiveSemiDefinite)

@@ -293,6 +293,85 @@ TEST(Trellis, EqualsTheEnergyOfTheAngleAndIsInfinitePastTheSingularAngle)
 }
 
 // ---------------------------------------------------------------------------------------------
+// Twist (bias bending, beyond the paper): a cell (i,j) (i+1,j) (i,j+1) (i+1,j+1).
+
+constexpr double kTwistRigidity = 2e-5;  // N m: T of a cotton shirting (0.05 gf.cm^2/cm x 4)
+
+/// A sigma x sigma cell on the surface z = w(u, v), placed by a random rigid motion.
+template <class W> VecN<12> cell_on(W w, double u0, double v0, unsigned seed)
+{
+    VecN<12> x;
+    int k = 0;
+    for (double dv : {0.0, kSigma})
+        for (double du : {0.0, kSigma}) x.segment<3>(3 * k++) = Vec3(u0 + du, v0 + dv, w(u0 + du, v0 + dv));
+    return placed<12>(x, seed);
+}
+
+/// A cell of random shape: corners moved by up to a quarter spacing in every direction.
+VecN<12> random_cell(unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-0.25 * kSigma, 0.25 * kSigma);
+    VecN<12> x = cell_on([](double, double) { return 0.0; }, 0, 0, seed);
+    for (int k = 0; k < 12; ++k) x[k] += u(rng);
+    return x;
+}
+
+TEST(Twist, GradientAndHessianMatchFiniteDifferences)
+{
+    const model::TwistTerm term(kTwistRigidity, kSigma);
+    for (unsigned seed = 900; seed < 916; ++seed) check_term(term, random_cell(seed), true, true);
+    // Nearly flat and exactly flat cells (f = 0: the exact Hessian is the Gauss-Newton one).
+    check_term(term, cell_on([](double u, double v) { return 1e-4 * u * v / kSigma; }, 0.01, 0.02, 917), true, true);
+    check_term(term, cell_on([](double, double) { return 0.0; }, 0.01, 0.02, 918), false, true);
+}
+
+TEST(Twist, VanishesForBendsAlongEitherThreadAndForShear)
+{
+    const model::TwistTerm term(kTwistRigidity, kSigma);
+    const double k = 20.0;  // 1/m: a tight bend, radius 5 cm
+    auto along_u = [&](double u, double) { return 0.5 * k * u * u; };  // generators along v: bends the u thread
+    auto along_v = [&](double, double v) { return 0.5 * k * v * v; };
+    for (unsigned seed : {1u, 2u, 3u}) {
+        EXPECT_LE(term.value(cell_on(along_u, 0.03, -0.01, seed)), 1e-25);
+        EXPECT_LE(term.value(cell_on(along_v, -0.02, 0.05, seed)), 1e-25);
+    }
+    // A sheared (and rotated) parallelogram.
+    VecN<12> x;
+    const Vec3 a(kSigma, 0, 0), b(0.4 * kSigma, 0.9 * kSigma, 0);
+    x << Vec3::Zero(), a, b, Vec3(a + b);
+    EXPECT_LE(term.value(placed<12>(x, 7)), 1e-25);
+}
+
+TEST(Twist, StoresTheContinuumEnergyOfABendAcrossTheThreads)
+{
+    // A cylindrical bend of curvature k whose generators make angle alpha with the v thread:
+    // tau = k cos(alpha) sin(alpha), the energy T tau^2 / 2 per unit area, sigma^2 per cell; the
+    // cell's twist is exact for a quadratic surface, so only round-off separates them.
+    const model::TwistTerm term(kTwistRigidity, kSigma);
+    const double k = 5.0;
+    for (double alpha : {0.3, kPi / 4, 1.1}) {
+        const double c = std::cos(alpha), s = std::sin(alpha);
+        auto w = [&](double u, double v) {
+            const double across = c * u + s * v;  // distance across the generators
+            return 0.5 * k * across * across;
+        };
+        const double tau = k * c * s;
+        const double expected = 0.5 * kTwistRigidity * tau * tau * kSigma * kSigma;
+        const double got = term.value(cell_on(w, 0.004, -0.003, 11));
+        // The cell's normal tilts by O(k sigma) from the surface's at its centre: relative O((k sigma)^2).
+        EXPECT_NEAR(got, expected, 2 * (k * kSigma) * (k * kSigma) * expected) << "alpha " << alpha;
+    }
+}
+
+TEST(Twist, IsInfiniteWhenTheDiagonalsAreParallel)
+{
+    VecN<12> x;
+    x << Vec3::Zero(), Vec3(kSigma, 0, 0), Vec3(kSigma, 0, 0), Vec3(2 * kSigma, 0, 0);
+    EXPECT_TRUE(std::isinf(model::TwistTerm(kTwistRigidity, kSigma).value(x)));
+}
+
+// ---------------------------------------------------------------------------------------------
 // Stencil lists.
 
 TEST(Stencils, FullGridCountsAndCoupling)

@@ -27,6 +27,8 @@
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
+#include "woven/io/start_file.hpp"
+#include "woven/io/toml_reader.hpp"
 #include "woven/io/surface_file.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/image.hpp"
@@ -123,6 +125,35 @@ render::Image drape_picture(const testers::CusickResult& r, const testers::Cusic
     return render_view(scene_view(std::move(cloth), setup.obstacles, fabric), render::View::CORNER, 1024, 768);
 }
 
+/// "2-12" or "3,5,7": fold counts from 2 to 64, ascending, no repeats.
+std::vector<int> parse_modes(const std::string& text)
+{
+    std::vector<int> modes;
+    const auto bad = [&] { return InputError(kCommandLine, "--modes", "expected a range such as 2-12 or a list such as 3,5,7 of fold counts in [2, 64], got '" + io::printable(text) + "'"); };
+    const auto number = [&](const std::string& t) {
+        if (t.empty() || t.size() > 2 || t.find_first_not_of("0123456789") != std::string::npos) throw bad();
+        const int v = std::stoi(t);
+        if (v < 2 || v > 64) throw bad();
+        return v;
+    };
+    if (const auto dash = text.find('-'); dash != std::string::npos) {
+        const int lo = number(text.substr(0, dash)), hi = number(text.substr(dash + 1));
+        if (hi < lo) throw bad();
+        for (int m = lo; m <= hi; ++m) modes.push_back(m);
+        return modes;
+    }
+    std::size_t begin = 0;
+    while (true) {
+        const auto comma = text.find(',', begin);
+        modes.push_back(number(text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin)));
+        if (comma == std::string::npos) break;
+        begin = comma + 1;
+    }
+    for (std::size_t k = 1; k < modes.size(); ++k)
+        if (modes[k] <= modes[k - 1]) throw bad();
+    return modes;
+}
+
 std::string angles_text(const std::vector<double>& a)
 {
     std::ostringstream o;
@@ -157,6 +188,15 @@ int run_cusick(const CusickCommandOptions& o)
         co.protocol = parse_choice(*o.protocol, "--protocol", {"release", "lowered"}) == 0 ? testers::CusickProtocol::RELEASE
                                                                                           : testers::CusickProtocol::LOWERED;
     if (o.shakes) co.shakes = static_cast<int>(parse_integer(*o.shakes, "--shakes", 0, 100));
+    if (o.bias) co.model.bias_bending = parse_bias_bending(*o.bias, "--bias");
+    testers::CusickSearchOptions search;
+    search.release = true;
+    if (!o.search && (o.modes || o.jobs)) throw InputError(kCommandLine, o.modes ? "--modes" : "--jobs", "expected only with --search");
+    if (o.search && o.start) throw InputError(kCommandLine, "--start", "expected without --search (the search makes its own starts)");
+    if (o.search) {
+        search.modes = parse_modes(o.modes.value_or("2-12"));
+        if (o.jobs) search.jobs = static_cast<int>(parse_integer(*o.jobs, "--jobs", 1, 64));
+    }
     if (o.clamp) {
         if (*o.clamp == "pinned") co.clamp = testers::CusickClamp::PINNED;
         else if (*o.clamp == "discs") co.clamp = testers::CusickClamp::DISCS;
@@ -192,6 +232,12 @@ int run_cusick(const CusickCommandOptions& o)
     check_memory_estimate(estimate_drape_memory(setup.cut.count, threads_to_use(co.solver.threads)), setup.cut.count, kCommandLine,
                           o.spacing_cm ? "--spacing-cm" : "--specimen-cm", "use a larger --spacing-cm");
     with_fabric_source(command_fabric_source(o.fabric, o.given_fabric), [&] { resolve_shear_law(fabric, co.model); });
+    std::string start_sha256;
+    if (o.start) {
+        io::StartState start = io::load_start(parse_path(*o.start, "--start"), setup.grid, setup.cut.active, setup.initial);
+        co.start = std::move(start.x);
+        start_sha256 = start.sha256;
+    }
     make_output_dir(out_dir);
     // Every file of the set, known before the runs: published together, cusick.json last
     // (io::OutputSet), so an interrupted or failed run never leaves a mixed directory.
@@ -222,12 +268,39 @@ int run_cusick(const CusickCommandOptions& o)
         ck.solver.seed = seed0 + static_cast<std::uint64_t>(k);
         const int max_steps = ck.solver.max_steps > 0 ? ck.solver.max_steps : sim::default_max_steps(ck.solver.kind);
         Progress progress(max_steps, ck.solver.residual_tolerance);
-        const testers::CusickResult r = testers::run_cusick(fabric, ck, [&progress](const sim::StepInfo& s) { return progress(s); });
+        testers::CusickSearch found;
+        if (o.search) {
+            found = testers::search_cusick(fabric, ck, search, [&progress](const sim::StepInfo& s) { return progress(s); });
+        } else {
+            found.states.push_back({{}, testers::run_cusick(fabric, ck, [&progress](const sim::StepInfo& s) { return progress(s); })});
+            found.prediction = 0;
+            found.interrupted = found.states[0].result.drape.interrupted;
+        }
         progress.finish();
-        interrupted = interrupt_requested() || r.drape.interrupted;
+        if (found.prediction < 0) throw RuntimeError("cusick: the search reached no rest state");
+        const testers::CusickResult& r = found.states[static_cast<std::size_t>(found.prediction)].result;
+        interrupted = interrupt_requested() || found.interrupted;
         const analysis::Nodes& nd = r.shadow.nodes;
         nlohmann::json j;
         j["seed"] = ck.solver.seed;
+        if (o.search) {
+            nlohmann::json states = nlohmann::json::array();
+            for (const testers::CusickState& st : found.states) {
+                const testers::CusickResult& sr = st.result;
+                states.push_back({{"start", st.start.mode > 0 ? "mode " + std::to_string(st.start.mode) : std::string("release")},
+                                  {"mode", st.start.mode},
+                                  {"phase_deg", st.start.phase_rad * 180 / M_PI},
+                                  {"drape_coefficient_percent", sr.shadow.drape_coefficient_percent},
+                                  {"nodes", sr.shadow.nodes.count()},
+                                  {"node_angles_deg", sr.shadow.nodes.angle_deg},
+                                  {"energy_J", sr.drape.energy.total()},
+                                  {"converged", sr.drape.converged},
+                                  {"steps", sr.drape.steps},
+                                  {"wall_time_s", sr.drape.wall_time}});
+            }
+            j["states"] = states;
+            j["prediction"] = {{"rule", "lowest energy"}, {"state", found.prediction}};
+        }
         j["drape_coefficient_percent"] = r.shadow.drape_coefficient_percent;
         j["nodes"] = nd.count();
         j["node_angles_deg"] = nd.angle_deg;
@@ -287,6 +360,9 @@ int run_cusick(const CusickCommandOptions& o)
     rep["protocol"] = testers::protocol_name(co.protocol);
     if (co.protocol == testers::CusickProtocol::LOWERED) rep["lower_step_m"] = testers::lower_step_m(co);
     rep["shakes"] = co.shakes;
+    rep["bias_bending"] = model::to_string(co.model.bias_bending);
+    rep["start_sha256"] = start_sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(start_sha256);
+    rep["search"] = o.search ? nlohmann::json{{"modes", search.modes}, {"release", search.release}, {"rule", "lowest energy"}} : nlohmann::json(nullptr);
     if (co.shakes > 0) rep["shake_amplitude_g"] = co.shake_amplitude;
     rep["shear_scale"] = co.model.shear_scale;
     rep["specimen_area_m2"] = setup.cut.total_area;
@@ -312,7 +388,7 @@ int run_cusick(const CusickCommandOptions& o)
         for (const auto& [c, m] : per) pj[std::to_string(c)] = m;
         rep["runs_per_node_count"] = pj;
     }
-    require_finite(rep, "cusick");
+    require_finite(rep, "cusick", {"start_sha256", "search"});
     rep["files"] = set.files_json();
     set.publish("cusick.json", rep.dump(2) + "\n");
     std::cout << "wrote";
@@ -358,6 +434,15 @@ void add_cusick_command(CLI::App& app, int& exit_code)
     sub->add_option("--shakes", o->shakes,
                     "After the protocol, this many cycles of a quasi-static vertical shake of the disc (to rest at 1.5 g, at "
                     "0.5 g, in the clamp's frame), then to rest at g (default 0)");
+    sub->add_option("--bias", o->bias,
+                    "threads (the paper's: bending along the warp and weft alone) or fabric (and the twisting that gives the "
+                    "fabric's bias bending rigidity, measured or estimated)");
+    sub->add_option("--start", o->start, "Start from this cusick.obj (of the same specimen and spacing) instead of the flat start");
+    sub->add_flag("--search", o->search,
+                  "Search the rest states: the release and one start per imposed mode (--modes), each draped to rest; the "
+                  "prediction is the state of lowest energy, every state listed in cusick.json");
+    sub->add_option("--modes", o->modes, "--search: the imposed fold counts, a range 2-12 (the default) or a list 3,5,7");
+    sub->add_option("--jobs", o->jobs, "--search: starts run at once (default 1; each on --threads threads)");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->callback([o, &exit_code] { exit_code = run_cusick(*o); });

@@ -85,6 +85,11 @@ struct CusickCommandOptions {
     std::optional<std::string> hysteresis;  ///< loading-branch (default) or friction
     std::optional<std::string> protocol;    ///< release (default) or lowered
     std::optional<std::string> shakes;      ///< quasi-static shake cycles after the protocol (default 0)
+    std::optional<std::string> bias;        ///< threads or fabric (model::BiasBending)
+    std::optional<std::string> start;       ///< a cusick.obj to start from
+    bool search = false;                    ///< the search of rest states (testers::search_cusick)
+    std::optional<std::string> modes;       ///< --search: the imposed modes, "2-12" or a list "2,4,6"
+    std::optional<std::string> jobs;        ///< --search: starts run at once
     std::optional<std::string> out;
     bool no_render = false;
     GivenFabric given_fabric;
@@ -102,6 +107,8 @@ struct DrapeOptions {
     std::optional<std::string> max_steps;
     std::optional<std::string> perturb;
     std::optional<std::string> hysteresis;  ///< loading-branch or friction (overrides the scene's [model] hysteresis)
+    std::optional<std::string> bias;        ///< threads or fabric (overrides the scene's [model] bias_bending)
+    std::optional<std::string> start;       ///< a drape.obj of the same scene and grid to start from
     std::string out = "out";
     bool no_render = false;
     bool ply_ascii = false;

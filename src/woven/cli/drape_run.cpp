@@ -13,6 +13,7 @@
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
+#include "woven/io/start_file.hpp"
 
 namespace woven::cli {
 
@@ -48,6 +49,7 @@ std::unique_ptr<DrapeSetup> prepare_drape(const DrapeOptions& options, std::vect
     io::apply_overrides(scene, ov, kCommandLine);
     if (options.perturb) scene.solver.perturbation = parse_number(*options.perturb, "--perturb", 0, io::kMaxPerturbation_m);
     if (options.hysteresis) scene.model.hysteresis = parse_hysteresis(*options.hysteresis, "--hysteresis");
+    if (options.bias) scene.model.bias_bending = parse_bias_bending(*options.bias, "--bias");
     if (scene.model.hysteresis == model::Hysteresis::FRICTION && scene.solver.kind == sim::SolverKind::PAPER)
         throw InputError(options.hysteresis || options.solver ? kCommandLine : scene.source_path,
                          options.hysteresis ? "--hysteresis" : options.solver ? "--solver" : "model.hysteresis",
@@ -82,6 +84,12 @@ std::unique_ptr<DrapeSetup> prepare_drape(const DrapeOptions& options, std::vect
     if (d.model->has_slip()) d.problem.slip = &*d.model;  // friction: the states evolve with the drape
     d.problem.obstacles = &scene.obstacles;
     d.problem.initial = scene.cloth.initial_positions();
+    if (options.start) {  // a drape read back: same scene and grid, the pinned particles where the scene pins them
+        io::StartState start = io::load_start(parse_path(*options.start, "--start"), d.grid, d.model->stencils().active, d.problem.initial);
+        for (int p : scene.pinned_indices()) start.x[p] = d.problem.initial[p];
+        d.problem.initial = start.x;
+        d.start_sha256 = start.sha256;
+    }
     d.problem.pinned = scene.pinned_indices();
     d.energy_initial = d.model->energy(d.problem.initial);
     d.max_steps = scene.solver.max_steps > 0 ? scene.solver.max_steps : sim::default_max_steps(scene.solver.kind);
@@ -144,8 +152,9 @@ nlohmann::json drape_report_json(const DrapeRun& run, const std::vector<std::str
     // The path the cloth takes (with friction inside the weave the drape depends on it): the
     // paper's drop, the cloth released at rest from its start (flat above the cube).
     report["protocol"] = "drop";
+    report["start_sha256"] = d.start_sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.start_sha256);
     report["perturbation_m"] = d.scene.solver.kind == sim::SolverKind::FAST ? d.scene.solver.perturbation : 0.0;
-    require_finite(report, "the drape", {"folds"});
+    require_finite(report, "the drape", {"folds", "start_sha256"});
     return report;
 }
 

@@ -33,6 +33,7 @@ struct DrapeSetup {
     std::optional<model::ClothCut> cut;  ///< a cloth cut to [cloth.outline]
     sim::Problem problem;
     double energy_initial = 0;         ///< J, at the start
+    std::string start_sha256;          ///< --start: the start file's SHA-256 (empty: the scene's flat start)
     ThreadCount threads;
     int max_steps = 0;                 ///< the step limit in force (the solver's default for 0)
 

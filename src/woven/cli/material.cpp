@@ -51,4 +51,9 @@ model::Hysteresis parse_hysteresis(const std::string& text, const std::string& o
     return parse_choice(text, option, {"loading-branch", "friction"}) == 0 ? model::Hysteresis::LOADING_BRANCH : model::Hysteresis::FRICTION;
 }
 
+model::BiasBending parse_bias_bending(const std::string& text, const std::string& option)
+{
+    return parse_choice(text, option, {"threads", "fabric"}) == 0 ? model::BiasBending::THREADS : model::BiasBending::FABRIC;
+}
+
 }  // namespace woven::cli

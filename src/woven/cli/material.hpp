@@ -28,5 +28,7 @@ const char* to_string(model::ShearLaw law);
 model::ShearLaw parse_shear_law(const std::string& text, const std::string& option);
 /// --hysteresis: loading-branch or friction (the one-line error otherwise).
 model::Hysteresis parse_hysteresis(const std::string& text, const std::string& option);
+/// "threads" or "fabric" (model::BiasBending); InputError("command line", option, ...) otherwise.
+model::BiasBending parse_bias_bending(const std::string& text, const std::string& option);
 
 }  // namespace woven::cli

@@ -80,7 +80,7 @@ nlohmann::json energy_json(const model::EnergyTerms& e)
     return {{"repulsion_J", num(e.repulsion)},       {"stretch_J", num(e.stretch)},
             {"bending_warp_J", num(e.bending_warp)}, {"bending_weft_J", num(e.bending_weft)},
             {"trellis_J", num(e.trellis)},           {"gravity_J", num(e.gravity)},
-            {"total_J", num(e.total())}};
+            {"twist_J", num(e.twist)},               {"total_J", num(e.total())}};
 }
 
 }  // namespace
@@ -93,6 +93,8 @@ nlohmann::json model_json(const model::ClothModel& model, const model::ModelOpti
             {"shear_law", o.shear_law == model::ShearLaw::MEASURED ? "measured" : "deembedded"},
             {"shear_scale", model.shear_scale()},
             {"hysteresis", model::to_string(model.hysteresis())},
+            {"bias_bending", model::to_string(model.twist_rigidity() > 0 ? model::BiasBending::FABRIC : model::BiasBending::THREADS)},
+            {"twist_rigidity_N_m", model.twist_rigidity()},
             {"gram_force", o.gram_force == units::GramForce::PAPER ? "paper" : "standard"},
             {"dyn_per_gram_force", units::dyn_per_gram_force(o.gram_force)},
             {"tensile_stiffness_N_m", convergent ? model.spacing().tensile : 0.0},

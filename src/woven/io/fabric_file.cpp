@@ -145,6 +145,7 @@ kes::FabricData read_fabric(const TomlReader& reader, std::vector<std::string>* 
     const TomlTable bending = *r.table("bending", true);
     f.bending_warp = read_bending(*bending.table("warp", true));
     f.bending_weft = read_bending(*bending.table("weft", true));
+    if (const auto bias = bending.table("bias")) f.bias_B = bias->number("B", positive("gf.cm^2/cm"), std::nullopt);
     f.shear = read_shear(*r.table("shear", true));
     if (const auto tensile = r.table("tensile")) f.tensile = read_tensile(*tensile);
     if (r.has("color")) {  // display colour only (docs/FABRIC-FORMAT.md)

@@ -207,6 +207,9 @@ void parse_model(const TomlTable& t, model::ModelOptions& o)
     o.hysteresis = t.choice("hysteresis", friction ? "friction" : "loading-branch", {"loading-branch", "friction"}) == "friction"
         ? model::Hysteresis::FRICTION
         : model::Hysteresis::LOADING_BRANCH;
+    const bool fabric_bias = o.bias_bending == model::BiasBending::FABRIC;
+    o.bias_bending = t.choice("bias_bending", fabric_bias ? "fabric" : "threads", {"threads", "fabric"}) == "fabric" ? model::BiasBending::FABRIC
+                                                                                                                    : model::BiasBending::THREADS;
     o.tensile_stiffness = t.number("tensile_stiffness_N_m", Range{0, 1e9, false, "N/m"}, o.tensile_stiffness);
     o.gram_force = t.choice("gram_force", "paper", {"paper", "standard"}) == "standard" ? units::GramForce::STANDARD
                                                                                          : units::GramForce::PAPER;

@@ -48,6 +48,9 @@ struct FabricData {
     std::optional<double> thickness_mm;
     Measured<BendingSummary> bending_warp;  ///< KES-FB2, warp direction
     Measured<BendingSummary> bending_weft;  ///< KES-FB2, weft direction
+    /// KES-FB2 (or a cantilever) on a bias specimen, cut at 45 degrees to the threads: its B,
+    /// gf.cm^2/cm (beyond the paper: model::BiasBending). Unset: estimated from warp and weft.
+    std::optional<double> bias_B;
     Measured<ShearSummary> shear;           ///< KES-FB1
     std::optional<TensileSummary> tensile;
     std::optional<std::array<double, 3>> color;  ///< display colour for pictures, sRGB in 0..1 (no physics)

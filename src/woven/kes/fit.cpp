@@ -11,6 +11,7 @@ FittedFabric fit_fabric(const FabricData& fabric)
     f.bending_warp = fit_first_stage(fabric.bending_warp.curve, bending_fit_options(), where + ": bending.warp");
     f.bending_weft = fit_first_stage(fabric.bending_weft.curve, bending_fit_options(), where + ": bending.weft");
     f.shear = fit_first_stage(fabric.shear.curve, shear_fit_options(), where + ": shear");
+    f.bias_B = fabric.bias_B;
     return f;
 }
 

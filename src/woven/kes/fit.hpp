@@ -2,6 +2,7 @@
 // Fitting a fabric (paper Sec. 5.1): its three first-stage KES curves, each fitted piecewise
 // (quadratic segment(s) from the origin, then the outer line). The model's bending and trellis
 // energies are built from this, and `woven fit` shows it.
+#include <optional>
 #include <string>
 
 #include "woven/kes/curve.hpp"
@@ -16,6 +17,7 @@ struct FittedFabric {
     CurveFit bending_warp;            ///< KES-FB2 warp: curvature K (1/cm) -> moment M (gf.cm/cm)
     CurveFit bending_weft;            ///< KES-FB2 weft: the same
     CurveFit shear;                   ///< KES-FB1: shear angle (deg) -> force F (gf/cm)
+    std::optional<double> bias_B;     ///< KES-FB2 on a 45-degree specimen: B (gf.cm^2/cm), when measured
 };
 
 /// Fits the fabric's bending (warp, weft) and shear curves (Sec. 5.1) with bending_fit_options

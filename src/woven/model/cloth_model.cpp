@@ -4,7 +4,10 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <type_traits>
+
+#include "woven/common/error.hpp"
 
 
 namespace woven::model {
@@ -18,9 +21,46 @@ double& EnergyTerms::operator[](Term t)
     case Term::BENDING_WARP: return bending_warp;
     case Term::BENDING_WEFT: return bending_weft;
     case Term::TRELLIS: return trellis;
+    case Term::TWIST: return twist;
     }
     assert(false);
     return gravity;
+}
+
+const char* to_string(BiasBending b)
+{
+    return b == BiasBending::THREADS ? "threads" : "fabric";
+}
+
+double bias_rigidity_estimate(double B_warp, double B_weft)
+{
+    return 0.25 * (B_warp + B_weft) + 0.5 * std::sqrt(B_warp * B_weft);
+}
+
+double bias_rigidity(const kes::FittedFabric& fabric)
+{
+    if (fabric.bias_B) return *fabric.bias_B;
+    namespace ki = kes::instrument;
+    return bias_rigidity_estimate(kes::fit_slope(fabric.bending_warp, ki::kBendingSlopeFrom, ki::kBendingSlopeTo),
+                                  kes::fit_slope(fabric.bending_weft, ki::kBendingSlopeFrom, ki::kBendingSlopeTo));
+}
+
+double bias_rigidity_of_threads(const kes::FittedFabric& fabric)
+{
+    namespace ki = kes::instrument;
+    auto moment = [&](double K) { return 0.5 * (fabric.bending_warp.value(0.5 * K) + fabric.bending_weft.value(0.5 * K)); };
+    return (moment(ki::kBendingSlopeTo) - moment(ki::kBendingSlopeFrom)) / (ki::kBendingSlopeTo - ki::kBendingSlopeFrom);
+}
+
+double fabric_twist_rigidity(const kes::FittedFabric& fabric, units::GramForce gf)
+{
+    const double B45 = bias_rigidity(fabric), threads = bias_rigidity_of_threads(fabric);
+    if (!(B45 >= threads))
+        throw InputError("fabric '" + fabric.name + "'", "bending.bias.B",
+                         "the bias rigidity " + std::to_string(B45) + " gf.cm^2/cm is below the threads' own " + std::to_string(threads) +
+                             " (1/2 M_warp(K/2) + 1/2 M_weft(K/2) over 0.5-1.5 1/cm); expected at least that");
+    // gf.cm^2/cm -> N m: gram-force (N) x cm^2/cm (m).
+    return 4.0 * (B45 - threads) * units::newton_per_gram_force(gf) / units::kMToCm;
 }
 
 double tensile_stiffness_from_emt(double emt_percent, units::GramForce gf)
@@ -43,7 +83,10 @@ std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& a
 
 ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const ModelOptions& options, std::vector<char> active,
     const std::vector<double>& area_m2, const SlipLaws& slip)
-    : grid_(grid), stencils_(make_stencils(grid, std::move(active), options.discretization, slip.any())), discretization_(options.discretization),
+    : grid_(grid),
+      stencils_(make_stencils(grid, std::move(active), options.discretization, slip.any(),
+                              options.bias_bending == BiasBending::FABRIC && options.discretization == Discretization::CONVERGENT)),
+      discretization_(options.discretization),
       shear_scale_(options.shear_scale), hysteresis_(options.hysteresis), slip_(slip)
 {
     assert(grid.nu > 0 && grid.nv > 0 && grid.sigma > 0);
@@ -67,6 +110,7 @@ ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const 
     warp_ = BendingEnergy(fabric.bending_warp, sigma, options.bending_form, options.gram_force);
     weft_ = BendingEnergy(fabric.bending_weft, sigma, options.bending_form, options.gram_force);
     trellis_ = TrellisEnergy(fabric.shear, sigma, options.gram_force, options.shear_scale);
+    if (!stencils_.cells.empty()) twist_rigidity_ = fabric_twist_rigidity(fabric, options.gram_force);
     // The friction elements' energies in J: as the elastic terms' (energy_functions.hpp), the
     // shear ones times the shear law's factor.
     const double sigma_cm = sigma * units::kMToCm;
@@ -207,3 +251,4 @@ Positions flat_grid(const Grid& grid, const Vec3& centre, double yaw)
 }
 
 }  // namespace woven::model
+

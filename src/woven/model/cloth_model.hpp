@@ -33,13 +33,25 @@ namespace woven::model {
 /// The terms of Eq. (1), each summed once over the cloth (J).
 struct EnergyTerms {
     double repulsion = 0, stretch = 0, bending_warp = 0, bending_weft = 0, trellis = 0, gravity = 0;
-    double total() const { return repulsion + stretch + bending_warp + bending_weft + trellis + gravity; }
+    double twist = 0;  ///< beyond the paper: the bias bending (TwistTerm); 0 without it
+    double total() const { return repulsion + stretch + bending_warp + bending_weft + trellis + gravity + twist; }
     double& operator[](Term t);
     double operator[](Term t) const { return const_cast<EnergyTerms&>(*this)[t]; }
 };
 
 /// The shear law of ModelOptions::shear_law.
 enum class ShearLaw { DEEMBEDDED, MEASURED };
+
+/// What resists a bend across the threads (ModelOptions::bias_bending).
+///   THREADS: the threads' bending alone (the paper's Eq. 7-12): a bend at angle a to the warp
+///     costs B_warp cos^4 a + B_weft sin^4 a, at 45 degrees a quarter of their sum.
+///   FABRIC: and the cells' twisting (TwistTerm) with the rigidity that gives the fabric's bias
+///     bending rigidity B_45 at 45 degrees: its measured KES-FB2 value on a bias specimen
+///     (kes::FabricData::bias_B) or, where it has none, bias_rigidity_estimate.
+enum class BiasBending { THREADS, FABRIC };
+
+/// "threads" or "fabric".
+const char* to_string(BiasBending b);
 
 /// Model settings beyond the fabric (SI).
 struct ModelOptions {
@@ -74,7 +86,28 @@ struct ModelOptions {
     /// shear elements are scaled by shear_scale with the elastic law. Curves given as points
     /// keep their loading branch.
     Hysteresis hysteresis = Hysteresis::LOADING_BRANCH;
+    /// The bending across the threads; the PAPER discretisation has the threads' alone.
+    BiasBending bias_bending = BiasBending::THREADS;
 };
+
+/// B_45 (gf.cm^2/cm) of an orthotropic plate with thread rigidities B_warp, B_weft under Huber's
+/// approximation of the torsional rigidity, D12 + 2 D66 = sqrt(D11 D22) (M. T. Huber, 1923; the
+/// standard estimate for orthotropic plates without a measured one): (B_warp + B_weft) / 4 +
+/// sqrt(B_warp B_weft) / 2, which is B for a balanced fabric (isotropic in bending).
+double bias_rigidity_estimate(double B_warp, double B_weft);
+
+/// The bias bending rigidity B_45 the model is given (gf.cm^2/cm): the fabric's measured one, or
+/// bias_rigidity_estimate of its warp and weft KES slopes.
+double bias_rigidity(const kes::FittedFabric& fabric);
+
+/// The KES-FB2 slope over 0.5-1.5 1/cm of a 45-degree specimen bent by the threads alone, the
+/// moment 1/2 M_warp(K/2) + 1/2 M_weft(K/2) (each thread curved K/2), gf.cm^2/cm.
+double bias_rigidity_of_threads(const kes::FittedFabric& fabric);
+
+/// The twisting rigidity T (N m) that makes a 45-degree bend of the convergent model cost B_45:
+/// 4 (B_45 - bias_rigidity_of_threads) converted to SI (it adds T/4 to the bias slope). Throws
+/// InputError (the fabric, "bending.bias.B") when B_45 is below the threads' own.
+double fabric_twist_rigidity(const kes::FittedFabric& fabric, units::GramForce gf);
 
 /// The extension (%) at 500 gf/cm assumed when a fabric gives no KES tensile values: a typical
 /// woven shirting (KES-DATA.md ranges 3-8 %).
@@ -151,6 +184,9 @@ public:
     const BendingEnergy& bending_warp() const { return warp_; }
     const BendingEnergy& bending_weft() const { return weft_; }
     const TrellisEnergy& trellis() const { return trellis_; }
+    /// The twisting rigidity T (N m) of TwistTerm; 0 without bias bending.
+    double twist_rigidity() const { return twist_rigidity_; }
+    TwistTerm twist_term() const { return TwistTerm(twist_rigidity_, grid_.sigma); }
 
     /// The hysteresis mode the model was built with (ModelOptions::hysteresis).
     Hysteresis hysteresis() const { return hysteresis_; }
@@ -190,6 +226,7 @@ private:
     ThreadSpacing spacing_;
     BendingEnergy warp_, weft_;
     TrellisEnergy trellis_;
+    double twist_rigidity_ = 0;
     Hysteresis hysteresis_ = Hysteresis::LOADING_BRANCH;
     SlipLaws slip_;
     std::vector<SlipState> warp_state_, weft_state_, shear_state_;
@@ -300,6 +337,7 @@ EnergyTerms ClothModel::evaluate(const Positions& x, Derivatives what, Sink& sin
     e.bending_warp = detail::add_term(Term::BENDING_WARP, BendingTerm(warp_), stencils_.warp_bends, stencils_.warp_weights, x, what, sink);
     e.bending_weft = detail::add_term(Term::BENDING_WEFT, BendingTerm(weft_), stencils_.weft_bends, stencils_.weft_weights, x, what, sink);
     e.trellis = detail::add_term(Term::TRELLIS, trellis_term(), stencils_.crossings, stencils_.crossing_weights, x, what, sink);
+    if (twist_rigidity_ > 0) e.twist = detail::add_term(Term::TWIST, twist_term(), stencils_.cells, {}, x, what, sink);
     // Friction inside the weave (slip.hpp), part of the bending and trellis terms.
     if (slip_.warp.active())
         e.bending_warp += detail::add_slip_term(Term::BENDING_WARP, slip_bend_term(Term::BENDING_WARP), warp_state_, stencils_.warp_slip_bends,

@@ -22,7 +22,7 @@ bool Stencils::coupled(int p, int q) const
     return std::binary_search(row.begin(), row.end(), q);
 }
 
-Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretization d, bool slip)
+Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretization d, bool slip, bool twist)
 {
     const int n = grid.size();
     if (active.empty()) active.assign(n, 1);
@@ -93,6 +93,10 @@ Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretizatio
         for (const Stencil<3>& b : s.warp_bends) s.warp_slip_bends.push_back(across(b, 1, 0));
         for (const Stencil<3>& b : s.weft_bends) s.weft_slip_bends.push_back(across(b, 0, 1));
     }
+    if (twist)
+        for (int j = 0; j + 1 < grid.nv; ++j)
+            for (int i = 0; i + 1 < grid.nu; ++i)
+                if (cell(i, j) > 0) s.cells.push_back({grid.index(i, j), grid.index(i + 1, j), grid.index(i, j + 1), grid.index(i + 1, j + 1)});
     for (const Stencil<3>& b : s.warp_bends) s.warp_weights.push_back(weight(b[1] % grid.nu, b[1] / grid.nu));
     for (const Stencil<3>& b : s.weft_bends) s.weft_weights.push_back(weight(b[1] % grid.nu, b[1] / grid.nu));
 
@@ -104,6 +108,7 @@ Stencils make_stencils(const Grid& grid, std::vector<char> active, Discretizatio
     add_couplings(s.crossings, rows);
     add_couplings(s.warp_slip_bends, rows);
     add_couplings(s.weft_slip_bends, rows);
+    add_couplings(s.cells, rows);
     s.coupled_begin_.assign(n + 1, 0);
     for (int p = 0; p < n; ++p) {
         std::sort(rows[p].begin(), rows[p].end());

@@ -12,6 +12,9 @@
 //                                 L = (i-1,j) -- (i,j) -- R = (i+1,j)      order L R D U;
 //                                                 |                        (i,j) not in it
 //                                                D = (i,j-1)
+//   cell, twisting (beyond the paper):           (i,j+1) -- (i+1,j+1)
+//                                                  |            |        order (i,j) (i+1,j)
+//                                                (i,j) ---- (i+1,j)      (i,j+1) (i+1,j+1)
 //   repulsion (Eq. 2, 4): pairs closer than sigma, found at run time (ClothModel::close_pairs)
 //   gravity (Eq. 6): every active particle
 //
@@ -51,6 +54,9 @@ struct Stencils {
     std::vector<Stencil<3>> warp_bends;  ///< (i,j-1), (i,j), (i,j+1)
     std::vector<Stencil<3>> weft_bends;  ///< (i-1,j), (i,j), (i+1,j)
     std::vector<Stencil<4>> crossings;   ///< L, R, D, U around (i,j)
+    /// With twist (make_stencils' `twist`), the grid cells whose four corners are cloth, each of
+    /// weight 1 (a whole sigma x sigma cell).
+    std::vector<Stencil<4>> cells;
     /// With slip (make_stencils' `slip`), one per warp (weft) bend, in its order: the bend's
     /// three particles and the two across the thread at its middle, (i-1,j), (i+1,j) for a
     /// warp bend, (i,j-1), (i,j+1) for a weft bend (a missing one replaced by the middle
@@ -78,8 +84,9 @@ struct Stencils {
 /// edges and bends, and a crossing at every active particle with an active neighbour along
 /// each thread (one-sided where one is missing); weights as Discretization says.
 /// `slip`: also the five-particle bends of the friction elements (slip.hpp), coupled in the
-/// pattern.
-Stencils make_stencils(const Grid& grid, std::vector<char> active = {}, Discretization d = Discretization::PAPER, bool slip = false);
+/// pattern; `twist`: also the cells (TwistTerm).
+Stencils make_stencils(const Grid& grid, std::vector<char> active = {}, Discretization d = Discretization::PAPER, bool slip = false,
+    bool twist = false);
 
 /// For each particle, the stencils of one list that contain it and its place (role) in each.
 struct Incidence {

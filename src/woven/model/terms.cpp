@@ -1,6 +1,7 @@
 #include "woven/model/terms.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "woven/model/angle.hpp"
 
@@ -15,6 +16,7 @@ const char* term_name(Term term)
     case Term::BENDING_WARP: return "bending_warp";
     case Term::BENDING_WEFT: return "bending_weft";
     case Term::TRELLIS: return "trellis";
+    case Term::TWIST: return "twist";
     }
     return "?";
 }
@@ -155,6 +157,71 @@ Local<4> TrellisTerm::evaluate(const VecN<12>& x, Derivatives what) const
 ParticleLocal TrellisTerm::particle(const VecN<12>& x, int k, Derivatives what) const
 {
     return to_particle_local<4>(kTrellisStencil, trellis_local(energy_, x, what), k, what);
+}
+
+namespace {
+
+Mat3 cross_matrix(const Vec3& a)
+{
+    Mat3 m;
+    m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+    return m;
+}
+
+}  // namespace
+
+double TwistTerm::twist_height(const VecN<12>& x)
+{
+    const Vec3 m = Vec3(x.segment<3>(9) - x.head<3>()).cross(Vec3(x.segment<3>(6) - x.segment<3>(3)));
+    const double s = m.norm();
+    if (!(s > 0)) return std::numeric_limits<double>::quiet_NaN();
+    return Vec3(x.head<3>() - x.segment<3>(3) - x.segment<3>(6) + x.segment<3>(9)).dot(m) / s;
+}
+
+Local<4> TwistTerm::evaluate(const VecN<12>& x, Derivatives what) const
+{
+    using Mat3x12 = Eigen::Matrix<double, 3, 12>;
+    const Vec3 x0 = x.head<3>(), x1 = x.segment<3>(3), x2 = x.segment<3>(6), x3 = x.segment<3>(9);
+    const Vec3 h = x0 - x1 - x2 + x3, e1 = x3 - x0, e2 = x2 - x1;
+    const Vec3 m = e1.cross(e2);
+    const double s = m.norm();
+    Local<4> l;
+    if (!(s > 0)) {
+        l.value = std::numeric_limits<double>::infinity();
+        return l;
+    }
+    const Vec3 u = m / s;
+    const double f = h.dot(u);
+    l.value = k_ * f * f;
+    if (what == Derivatives::NONE) return l;
+    // h = S x, e1 = D1 x, e2 = D2 x; dm = J dx with J = [e1]x D2 - [e2]x D1.
+    const Mat3 I = Mat3::Identity(), E1 = cross_matrix(e1), E2 = cross_matrix(e2);
+    Mat3x12 S, D1, D2, J;
+    S << I, -I, -I, I;
+    D1 << -I, Mat3::Zero(), Mat3::Zero(), I;
+    D2 << Mat3::Zero(), -I, I, Mat3::Zero();
+    J << E2, -E1, E1, -E2;
+    // f = q / s, q = h.m, s = |m|.
+    const VecN<12> grad_q = S.transpose() * m + J.transpose() * h;
+    const VecN<12> grad_s = J.transpose() * u;
+    const VecN<12> grad_f = (grad_q - f * grad_s) / s;
+    l.gradient = 2 * k_ * f * grad_f;
+    if (!wants_hessian(what)) return l;
+    if (what == Derivatives::PROJECTED) {
+        l.hessian = 2 * k_ * grad_f * grad_f.transpose();
+        return l;
+    }
+    // Second derivatives of the bilinear m contracted with a vector v: -D1^T [v]x D2 + transpose.
+    auto contracted = [&](const Vec3& v) {
+        const MatN<12> K = -D1.transpose() * cross_matrix(v) * D2;
+        return MatN<12>(K + K.transpose());
+    };
+    const MatN<12> SJ = S.transpose() * J;
+    const MatN<12> hess_q = SJ + SJ.transpose() + contracted(h);
+    const MatN<12> hess_s = J.transpose() * (I - u * u.transpose()) * J / s + contracted(u);
+    const MatN<12> hess_f = (hess_q - f * hess_s - grad_f * grad_s.transpose() - grad_s * grad_f.transpose()) / s;
+    l.hessian = 2 * k_ * (grad_f * grad_f.transpose() + f * hess_f);
+    return l;
 }
 
 }  // namespace woven::model

@@ -29,9 +29,11 @@ enum class Derivatives {
 inline bool wants_hessian(Derivatives what) { return what == Derivatives::HESSIAN || what == Derivatives::PROJECTED; }
 
 /// The terms of Eq. (1); EnergyTerms has one field per term.
-enum class Term { GRAVITY, STRETCH, REPULSION, BENDING_WARP, BENDING_WEFT, TRELLIS };
-inline constexpr Term kAllTerms[] = {Term::GRAVITY, Term::STRETCH, Term::REPULSION, Term::BENDING_WARP, Term::BENDING_WEFT, Term::TRELLIS};
-/// "gravity", "stretch", "repulsion", "bending_warp", "bending_weft", "trellis".
+/// TWIST is beyond the paper: the bias bending of MODEL-NOTES ("Bending in directions other than
+/// the threads"), TwistTerm.
+enum class Term { GRAVITY, STRETCH, REPULSION, BENDING_WARP, BENDING_WEFT, TRELLIS, TWIST };
+inline constexpr Term kAllTerms[] = {Term::GRAVITY, Term::STRETCH, Term::REPULSION, Term::BENDING_WARP, Term::BENDING_WEFT, Term::TRELLIS, Term::TWIST};
+/// "gravity", "stretch", "repulsion", "bending_warp", "bending_weft", "trellis", "twist".
 const char* term_name(Term term);
 
 /// One term on one N-particle stencil.
@@ -176,6 +178,29 @@ public:
 
 private:
     const TrellisEnergy& energy_;
+};
+
+/// Twisting of one grid cell (beyond the paper: the bias bending of MODEL-NOTES), on its corners:
+///
+///     x2 = (i,j+1) ---- x3 = (i+1,j+1)    h = x0 - x1 - x2 + x3 (zero for any parallelogram)
+///       |                  |              n = (x3 - x0) x (x2 - x1) / |.|, the diagonals' normal
+///     x0 = (i,j)  ----- x1 = (i+1,j)      f = h.n = sigma^2 tau, tau = d2w/du dv the twist
+///
+/// E = T f^2 / (2 sigma^2) (J): the energy T tau^2 / 2 per unit area of a sigma x sigma cell, T the
+/// twisting rigidity (N m) of an orthotropic plate's 2 (D12 + 2 D66). A bend of curvature k at
+/// angle a to the warp has tau = k cos(a) sin(a): E vanishes for bends along either thread and for
+/// in-plane shear and adds T k^2 cos^2 sin^2 / 2 between them. +inf when the diagonals are parallel.
+/// Projected Hessian (Gauss-Newton): (T / sigma^2) grad f grad f^T.
+class TwistTerm : public TermFunctions<TwistTerm, 4> {
+public:
+    /// `rigidity` T in N m (J), `sigma` the rest spacing (m).
+    TwistTerm(double rigidity, double sigma) : k_(0.5 * rigidity / (sigma * sigma)) { }
+    Local<4> evaluate(const VecN<12>& x, Derivatives what) const;
+    /// f = h.n (m), the cell's twist times sigma^2; NaN when the diagonals are parallel.
+    static double twist_height(const VecN<12>& x);
+
+private:
+    double k_;  ///< T / (2 sigma^2), J/m^2
 };
 
 /// A term's local value and derivatives times a weight (the share of cloth its stencil stands

@@ -83,7 +83,8 @@ public:
         : stencils_(model.stencils()), n_(model.grid().size()), stretch_(model.stretch_term()), repulsion_(model.repulsion_term()),
           warp_(model.bending_term(model::Term::BENDING_WARP)), weft_(model.bending_term(model::Term::BENDING_WEFT)),
           trellis_(model.trellis_term()), warp_of_(model::make_incidence(stencils_.warp_bends, n_)),
-          weft_of_(model::make_incidence(stencils_.weft_bends, n_)), crossings_of_(model::make_incidence(stencils_.crossings, n_))
+          weft_of_(model::make_incidence(stencils_.weft_bends, n_)), crossings_of_(model::make_incidence(stencils_.crossings, n_)),
+          twist_(model.twist_term()), cells_of_(model::make_incidence(stencils_.cells, n_))
     {
     }
 
@@ -165,6 +166,9 @@ private:
             if (!add(weft_.particle(model::gather<3>(x, stencils_.weft_bends[k]), role, what), stencils_.weft_weights[k])) return kInfinity;
         for (const auto& [k, role] : crossings_of_.of(p))
             if (!add(trellis_.particle(model::gather<4>(x, stencils_.crossings[k]), role, what), stencils_.crossing_weights[k])) return kInfinity;
+        // Twisting of the cells p is a corner of (beyond the paper; none without bias bending).
+        for (const auto& [k, role] : cells_of_.of(p))
+            if (!add(twist_.particle(model::gather<4>(x, stencils_.cells[k]), role, what))) return kInfinity;
         return e;
     }
 
@@ -175,6 +179,8 @@ private:
     model::BendingTerm warp_, weft_;
     model::TrellisTerm trellis_;
     model::Incidence warp_of_, weft_of_, crossings_of_;
+    model::TwistTerm twist_;
+    model::Incidence cells_of_;
     std::vector<Link> links_;
     std::vector<int> first_;  ///< links_ of particle p: [first_[p], first_[p + 1])
 };

@@ -1,6 +1,11 @@
 #include "woven/testers/cusick.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <iterator>
+#include <limits>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -161,6 +166,13 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     // One stage: a drape to rest from the state reached, the slip states carried on; r.drape
     // holds the last stage's state with steps, iterations and times summed over the stages.
     Positions x = setup.initial;
+    if (!options.start.empty()) {
+        if (options.start.size() != setup.initial.size())
+            throw InputError(kSource, "start", "expected " + std::to_string(setup.initial.size()) + " positions (the setup's grid)");
+        x = options.start;
+        for (int p : setup.clamped) x[p] = setup.initial[p];
+        for (int p : setup.sandwiched) x[p] = setup.initial[p];
+    }
     r.stages = 0;
     const auto stage = [&](const geometry::ObstacleSet& obstacles) {
         problem.obstacles = &obstacles;
@@ -216,6 +228,91 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     r.shadow = analysis::measure_drape(r.surface, Vec2::Zero(), 0.5 * options.disc_diameter_m, 0.5 * options.specimen_diameter_m,
                                        setup.cut.total_area, options.shadow);
     return r;
+}
+
+Positions mode_start(const CusickSetup& setup, const CusickOptions& options, const CusickStart& start)
+{
+    Positions x = setup.initial;
+    if (start.mode <= 0) return x;
+    const double R = 0.5 * options.specimen_diameter_m, rc = setup.clamp_radius;
+    const double z0 = setup.initial[setup.clamped.empty() ? 0 : setup.clamped.front()].z();
+    const int n = start.mode;
+    const auto amplitude = [&](double r, double beta) {
+        const double rho = rc + (r - rc) * std::cos(beta);
+        return 2 * rho / n * std::sqrt(std::max(r / rho - 1, 0.0));
+    };
+    double beta = kModeDroopDeg[std::size(kModeDroopDeg) - 1] * std::numbers::pi / 180;
+    for (double deg : kModeDroopDeg)
+        if (amplitude(R, deg * std::numbers::pi / 180) <= kModeMaxAmplitude * (R - rc)) {
+            beta = deg * std::numbers::pi / 180;
+            break;
+        }
+    for (int j = 0; j < setup.grid.nv; ++j)
+        for (int i = 0; i < setup.grid.nu; ++i) {
+            const int p = setup.grid.index(i, j);
+            if (!setup.cut.active[p]) continue;
+            const Vec2 uv = model::rest_uv(setup.grid, i, j);
+            const double r = uv.norm();
+            if (r <= rc) continue;
+            // Angles from the warp (+y) towards the weft (+x), as the shadow's nodes.
+            const double theta = std::atan2(uv.x(), uv.y());
+            const Vec2 radial = uv / r;
+            const double rho = rc + (r - rc) * std::cos(beta);
+            const Vec3 on_cone(rho * radial.x(), rho * radial.y(), z0 - (r - rc) * std::sin(beta));
+            const Vec3 normal(std::sin(beta) * radial.x(), std::sin(beta) * radial.y(), std::cos(beta));
+            x[p] = on_cone + amplitude(r, beta) * std::cos(n * (theta - start.phase_rad)) * normal;
+        }
+    return x;
+}
+
+double mode_phase(std::uint64_t seed, int mode)
+{
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(mode));
+    return uniform01(rng) * 2 * std::numbers::pi / mode;
+}
+
+CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions& search,
+                           const sim::ProgressCallback& progress)
+{
+    std::vector<CusickStart> starts;
+    if (search.release) starts.push_back({});
+    for (int m : search.modes) starts.push_back({m, mode_phase(options.solver.seed, m)});
+    const CusickSetup setup = make_cusick_setup(options);
+    CusickSearch out;
+    out.states.resize(starts.size());
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::mutex progress_mutex;
+    const auto worker = [&] {
+        for (std::size_t k = next++; k < starts.size() && !stop; k = next++) {
+            CusickOptions o = options;
+            if (starts[k].mode > 0) o.start = mode_start(setup, options, starts[k]);
+            out.states[k].start = starts[k];
+            out.states[k].result = run_cusick(fabric, o, [&](const sim::StepInfo& s) {
+                if (stop) return false;
+                if (!progress) return true;
+                const std::lock_guard<std::mutex> lock(progress_mutex);
+                if (!progress(s)) stop = true;
+                return !stop.load();
+            });
+            if (out.states[k].result.drape.interrupted) stop = true;
+        }
+    };
+    const int jobs = std::clamp(search.jobs, 1, static_cast<int>(std::max<std::size_t>(starts.size(), 1)));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < jobs; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+    out.interrupted = stop;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < out.states.size(); ++k) {
+        const double e = out.states[k].result.drape.energy.total();
+        if (out.states[k].result.particles > 0 && e < lowest) {
+            lowest = e;
+            out.prediction = static_cast<int>(k);
+        }
+    }
+    return out;
 }
 
 }  // namespace woven::testers

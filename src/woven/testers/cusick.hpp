@@ -112,6 +112,9 @@ struct CusickOptions {
     /// at g. 0: none. With friction the cycles work the bends back and forth inside their loops.
     int shakes = 0;
     double shake_amplitude = 0.5;  ///< the disc's peak acceleration over g, in (0, 1)
+    /// A start state replacing the flat one (one position per grid particle, m): a drape read
+    /// back (`--start`); the clamp's particles keep the setup's. Empty: the flat start.
+    Positions start;
     model::ModelOptions model;  ///< its hysteresis: LOADING_BRANCH (default) or FRICTION (the fast solver's)
     sim::SolverOptions solver;  ///< its seed and perturbation make the run-to-run variation
     analysis::DrapeShadowOptions shadow;
@@ -152,6 +155,56 @@ struct CusickResult {
     int particles = 0;            ///< kept particles
     int stages = 1;               ///< drapes run: LOWERED the plate's stages and the settling, and 2 per shake and 1 after
 };
+
+/// A start of the search of rest states (search_cusick): the release from flat (mode 0) or the
+/// overhang shaped with `mode` folds, the first at `phase_rad` from the warp (mode_start).
+struct CusickStart {
+    int mode = 0;
+    double phase_rad = 0;
+};
+
+/// The imposed-mode start: the overhang beyond the clamp as a cone drooping at beta below the
+/// horizontal with `mode` folds along its normal, each ring of rest radius r at cone radius rho
+/// folded with the amplitude that keeps its length, a = (2 rho / n) sqrt(r / rho - 1) (a ring of
+/// radius rho waved by a cos(n theta) is 2 pi rho (1 + (a n / rho)^2 / 4) long): a nearly
+/// isometric folded start. beta is the steepest in kModeDroopDeg whose hem amplitude stays
+/// within kModeMaxAmplitude of the overhang (2 folds droop little, 12 hang steep). The clamp's
+/// particles keep setup.initial's positions.
+Positions mode_start(const CusickSetup& setup, const CusickOptions& options, const CusickStart& start);
+
+/// The droops tried for a mode start (degrees below the horizontal), steepest first, and the
+/// largest fold amplitude at the hem as a fraction of the overhang.
+inline constexpr double kModeDroopDeg[] = {70, 60, 50, 40, 30, 20, 10};
+inline constexpr double kModeMaxAmplitude = 0.6;
+
+/// One rest state the search found.
+struct CusickState {
+    CusickStart start;
+    CusickResult result;
+};
+
+/// The search of rest states (issue: a drape has many; the release from flat lands in a high
+/// one): the release and one start per imposed mode, each draped to rest by run_cusick's
+/// protocol, every state kept. The prediction is the state of lowest energy (docs/CUSICK.md,
+/// "The search of rest states": why).
+struct CusickSearchOptions {
+    bool release = true;     ///< the release from flat is one of the starts
+    std::vector<int> modes;  ///< the imposed modes (2 .. 12 for woven cusick --search)
+    int jobs = 1;            ///< starts run at once (each on options.solver.threads threads)
+};
+struct CusickSearch {
+    std::vector<CusickState> states;  ///< in the order of the starts: the release, then the modes
+    int prediction = -1;              ///< the state of lowest total energy
+    bool interrupted = false;
+};
+
+/// The phase of the mode-n start of a seed: uniform in [0, 2 pi / n) from (seed, n), mt19937_64.
+double mode_phase(std::uint64_t seed, int mode);
+
+/// Runs the search. `progress` may be called from several threads at once (jobs > 1) and
+/// returns false to stop every start.
+CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions& search,
+                           const sim::ProgressCallback& progress = {});
 
 /// Drapes the specimen to rest by options.protocol (sim::drape with the residual test of `woven
 /// drape`; with friction the slip states carried through every step and stage) and reads its
