@@ -7,7 +7,7 @@
 # Defaults: build/woven, 5 seeds, the default spacing, out/cusick-library, 1 job. With other
 # seeds or a spacing the plan is written to OUT/plan.toml. Run it niced on a shared machine:
 # nice -n 19 scripts/cusick_library.sh. On a cluster, run the plan with mpirun or a Slurm array
-# instead (README, "Sweeps") and print the table with: scripts/cusick_library.sh WOVEN 5 "" OUT
+# instead (docs/CLI.md, "woven sweep") and print the table with: scripts/cusick_library.sh WOVEN 5 "" OUT
 # after `woven sweep PLAN --out OUT --merge` (every point done: nothing runs again).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)

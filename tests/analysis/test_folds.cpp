@@ -305,3 +305,25 @@ TEST(FoldAnalysis, PlainSkirtHasNoBillows)
         EXPECT_TRUE(sf.billows.empty());
     }
 }
+
+// The corner structures of the paper's Sec. 6: one billow on the diagonal (cotton), two folds
+// (wool), a billow pushed round the corner (polyester/cotton); the asymmetry weights by standout.
+TEST(CornerStructure, ClassifiesTheBillowsOfACorner)
+{
+    auto billow = [](double angle, double standout) {
+        Billow b;
+        b.angle_deg = angle;
+        b.standout_m = standout;
+        return b;
+    };
+    using analysis::CornerStructure;
+    EXPECT_EQ(analysis::corner_structure({}), CornerStructure::NONE);
+    EXPECT_EQ(analysis::corner_structure({billow(-14.9, 0.1)}), CornerStructure::SINGLE_BILLOW);
+    EXPECT_EQ(analysis::corner_structure({billow(15.1, 0.1)}), CornerStructure::PUSHED_BILLOW);
+    EXPECT_EQ(analysis::corner_structure({billow(-20, 0.1), billow(20, 0.1)}), CornerStructure::TWO_FOLDS);
+    EXPECT_EQ(analysis::corner_structure({billow(-30, 0.1), billow(0, 0.1), billow(30, 0.1)}), CornerStructure::SEVERAL_FOLDS);
+    EXPECT_STREQ(analysis::to_string(CornerStructure::SINGLE_BILLOW), "single billow");
+    EXPECT_DOUBLE_EQ(analysis::corner_asymmetry_deg({}), 0.0);
+    EXPECT_DOUBLE_EQ(analysis::corner_asymmetry_deg({billow(-20, 0.1), billow(20, 0.1)}), 0.0);
+    EXPECT_NEAR(analysis::corner_asymmetry_deg({billow(-20, 0.05), billow(25, 0.15)}), (-20 * 0.05 + 25 * 0.15) / 0.2, 1e-12);
+}

@@ -1,4 +1,4 @@
-# Fails on an upward #include between the modules of src/woven (README "Code layout"):
+# Fails on an upward #include between the modules of src/woven (docs/CPP.md "Code layout"):
 #   common < kes, geometry < model < sim < testers, analysis < io, render < cli
 # A file in module M may include "woven/N/..." only when N's layer is at or below M's.
 # Usage: cmake -DROOT=<dir holding woven/<module>/> -P check_layering.cmake

@@ -328,4 +328,36 @@ FoldAnalysis analyse_folds(const geometry::TriangleMesh& cloth, const BoxFootpri
     return fa;
 }
 
+const char* to_string(CornerStructure s)
+{
+    switch (s) {
+    case CornerStructure::NONE: return "none";
+    case CornerStructure::SINGLE_BILLOW: return "single billow";
+    case CornerStructure::PUSHED_BILLOW: return "pushed billow";
+    case CornerStructure::TWO_FOLDS: return "two folds";
+    case CornerStructure::SEVERAL_FOLDS: return "several folds";
+    }
+    return "?";
+}
+
+CornerStructure corner_structure(const std::vector<Billow>& billows)
+{
+    switch (billows.size()) {
+    case 0: return CornerStructure::NONE;
+    case 1: return std::abs(billows[0].angle_deg) <= kDiagonalToleranceDeg ? CornerStructure::SINGLE_BILLOW : CornerStructure::PUSHED_BILLOW;
+    case 2: return CornerStructure::TWO_FOLDS;
+    default: return CornerStructure::SEVERAL_FOLDS;
+    }
+}
+
+double corner_asymmetry_deg(const std::vector<Billow>& billows)
+{
+    double sum = 0, weight = 0;
+    for (const Billow& b : billows) {
+        sum += b.standout_m * b.angle_deg;
+        weight += b.standout_m;
+    }
+    return weight > 0 ? sum / weight : 0.0;
+}
+
 }  // namespace woven::analysis

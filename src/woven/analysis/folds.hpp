@@ -114,6 +114,30 @@ struct FoldAnalysis {
 /// prominence or half extent, or an empty mesh.
 FoldAnalysis analyse_folds(const geometry::TriangleMesh& cloth, const BoxFootprint& box, const FoldOptions& options = {});
 
+/// What a corner's section shows (the paper's Sec. 6 and Fig. 8 name three): cotton's single
+/// billow leaving the corner along its diagonal, wool's collapse into two folds, polyester/
+/// cotton's fold pushed round the corner.
+enum class CornerStructure {
+    NONE,            ///< no billow at the corner
+    SINGLE_BILLOW,   ///< one billow within kDiagonalToleranceDeg of the diagonal (45 degrees to the sides)
+    PUSHED_BILLOW,   ///< one billow further round the corner
+    TWO_FOLDS,       ///< two billows
+    SEVERAL_FOLDS,   ///< three or more
+};
+
+/// "none", "single billow", "pushed billow", "two folds", "several folds".
+const char* to_string(CornerStructure s);
+
+/// A billow this close to the corner's diagonal (degrees) leaves the corner "at 45 degrees".
+inline constexpr double kDiagonalToleranceDeg = 15.0;
+
+/// The structure of one corner's billows (one section's, Billow::corner all the same).
+CornerStructure corner_structure(const std::vector<Billow>& billows);
+
+/// The corner's asymmetry (degrees): the standout-weighted mean of its billows' angles from the
+/// diagonal; 0 for none, for a billow on the diagonal and for two folds placed symmetrically.
+double corner_asymmetry_deg(const std::vector<Billow>& billows);
+
 /// The cloth grid (nu * nv positions, index i + nu * j) as triangles, two per cell:
 /// (i, j) (i+1, j) (i+1, j+1) and (i, j) (i+1, j+1) (i, j+1), as the OBJ output has them.
 geometry::TriangleMesh grid_mesh(const Positions& x, int nu, int nv);

@@ -76,6 +76,11 @@ std::string parse_path(const std::string& text, const std::string& option)
 
 std::size_t parse_choice(const std::string& text, const std::string& option, std::initializer_list<const char*> choices)
 {
+    return parse_choice(text, option, std::span<const char* const>(choices.begin(), choices.size()));
+}
+
+std::size_t parse_choice(const std::string& text, const std::string& option, std::span<const char* const> choices)
+{
     std::string expected;
     std::size_t k = 0;
     for (const char* c : choices) {

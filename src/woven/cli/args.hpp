@@ -5,7 +5,11 @@
 #include <cstdint>
 #include <initializer_list>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
+
+#include "woven/common/choice.hpp"
 
 namespace woven::cli {
 
@@ -26,6 +30,14 @@ std::string parse_path(const std::string& text, const std::string& option);
 /// The index of `text` in `choices` ("command line: --shear-law: expected deembedded or
 /// measured, got 'x'").
 std::size_t parse_choice(const std::string& text, const std::string& option, std::initializer_list<const char*> choices);
+std::size_t parse_choice(const std::string& text, const std::string& option, std::span<const char* const> choices);
+/// The value `text` names in an enum's table of names (common/choice.hpp), the same error otherwise.
+template <class E, std::size_t N>
+E parse_choice(const std::string& text, const std::string& option, const std::array<Named<E>, N>& table)
+{
+    const std::vector<const char*> names = names_of(table);
+    return table[parse_choice(text, option, std::span<const char* const>(names))].value;
+}
 
 /// std::optional versions: nullopt stays nullopt.
 std::optional<long long> parse_integer(const std::optional<std::string>& text, const std::string& option, long long lo,

@@ -185,8 +185,7 @@ int run_cusick(const CusickCommandOptions& o)
         co.model.shear_law = parse_shear_law(*o.shear_law, "--shear-law");
     if (o.hysteresis) co.model.hysteresis = parse_hysteresis(*o.hysteresis, "--hysteresis");
     if (o.protocol)
-        co.protocol = parse_choice(*o.protocol, "--protocol", {"release", "lowered"}) == 0 ? testers::CusickProtocol::RELEASE
-                                                                                          : testers::CusickProtocol::LOWERED;
+        co.protocol = parse_choice(*o.protocol, "--protocol", testers::kCusickProtocolNames);
     if (o.shakes) co.shakes = static_cast<int>(parse_integer(*o.shakes, "--shakes", 0, 100));
     if (o.bias) co.model.bias_bending = parse_bias_bending(*o.bias, "--bias");
     testers::CusickSearchOptions search;
@@ -195,13 +194,10 @@ int run_cusick(const CusickCommandOptions& o)
     if (o.search && o.start) throw InputError(kCommandLine, "--start", "expected without --search (the search makes its own starts)");
     if (o.search) {
         search.modes = parse_modes(o.modes.value_or("2-12"));
+        search.stiffer = {4.0, 16.0};
         if (o.jobs) search.jobs = static_cast<int>(parse_integer(*o.jobs, "--jobs", 1, 64));
     }
-    if (o.clamp) {
-        if (*o.clamp == "pinned") co.clamp = testers::CusickClamp::PINNED;
-        else if (*o.clamp == "discs") co.clamp = testers::CusickClamp::DISCS;
-        else throw InputError(kCommandLine, "--clamp", "expected pinned or discs, got '" + *o.clamp + "'");
-    }
+    if (o.clamp) co.clamp = parse_choice(*o.clamp, "--clamp", testers::kCusickClampNames);
     if (o.clamp_margin) {
         if (co.clamp != testers::CusickClamp::PINNED)
             throw InputError(kCommandLine, "--clamp-margin", "expected only with --clamp pinned");
@@ -292,8 +288,12 @@ int run_cusick(const CusickCommandOptions& o)
             nlohmann::json states = nlohmann::json::array();
             for (const testers::CusickState& st : found.states) {
                 const testers::CusickResult& sr = st.result;
-                states.push_back({{"start", st.start.mode > 0 ? "mode " + std::to_string(st.start.mode) : std::string("release")},
-                                  {"mode", st.start.mode},
+                const std::string start = st.start.guides > 0 ? std::to_string(st.start.guides) + " guides"
+                                          : st.start.stiffer > 0 ? "from " + std::to_string(static_cast<int>(st.start.stiffer)) + " x B"
+                                                                 : std::string("release");
+                states.push_back({{"start", start},
+                                  {"guides", st.start.guides},
+                                  {"stiffer", st.start.stiffer},
                                   {"phase_deg", st.start.phase_rad * 180 / M_PI},
                                   {"drape_coefficient_percent", sr.shadow.drape_coefficient_percent},
                                   {"nodes", sr.shadow.nodes.count()},
@@ -366,8 +366,9 @@ int run_cusick(const CusickCommandOptions& o)
     if (co.protocol == testers::CusickProtocol::LOWERED) rep["lower_step_m"] = testers::lower_step_m(co);
     rep["shakes"] = co.shakes;
     rep["bias_bending"] = model::to_string(co.model.bias_bending);
-    rep["start_sha256"] = start_sha256.empty() ? nlohmann::json(nullptr) : nlohmann::json(start_sha256);
-    rep["search"] = o.search ? nlohmann::json{{"modes", search.modes}, {"release", search.release}, {"rule", "lowest energy"}} : nlohmann::json(nullptr);
+    rep["start_sha256"] = start_sha256;  // empty: the flat start
+    rep["search"] = {{"modes", search.modes}, {"stiffer", search.stiffer}, {"release", search.release},
+                     {"rule", o.search ? "lowest energy" : "the release"}};
     if (co.shakes > 0) rep["shake_amplitude_g"] = co.shake_amplitude;
     rep["shear_scale"] = co.model.shear_scale;
     rep["specimen_area_m2"] = setup.cut.total_area;
@@ -393,7 +394,7 @@ int run_cusick(const CusickCommandOptions& o)
         for (const auto& [c, m] : per) pj[std::to_string(c)] = m;
         rep["runs_per_node_count"] = pj;
     }
-    require_finite(rep, "cusick", {"start_sha256", "search"});
+    require_finite(rep, "cusick");
     rep["files"] = set.files_json();
     set.publish("cusick.json", rep.dump(2) + "\n");
     std::cout << "wrote";
@@ -444,9 +445,11 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                     "fabric's bias bending rigidity, measured or estimated)");
     sub->add_option("--start", o->start, "Start from this cusick.obj (of the same specimen and spacing) instead of the flat start");
     sub->add_flag("--search", o->search,
-                  "Search the rest states: the release and one start per imposed mode (--modes), each draped to rest; the "
-                  "prediction is the state of lowest energy, every state listed in cusick.json");
-    sub->add_option("--modes", o->modes, "--search: the imposed fold counts, a range 2-12 (the default) or a list 3,5,7");
+                  "Search the rest states: the release, one start per guide count (--modes: the overhang first falls onto "
+                  "that many guide rods under it, which are then taken away) and the continuations from copies 4 and 16 "
+                  "times stiffer in bending, each draped to rest; the prediction is the state of lowest energy, every "
+                  "state listed in cusick.json");
+    sub->add_option("--modes", o->modes, "--search: the guide counts, a range 2-12 (the default) or a list 3,5,7");
     sub->add_option("--jobs", o->jobs, "--search: starts run at once (default 1; each on --threads threads)");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");

@@ -72,7 +72,7 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("--fabric", o->fabric, "Fabric: a built-in name or a fabric .toml file (overrides the scene's)");
     sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)");
     sub->add_option("--solver", o->solver, "Solver: fast (implicit steps, projected Newton) or paper (Sec. 3)")
-        ->check(CLI::IsMember({"fast", "paper"}));
+        ->check(CLI::IsMember(names_of(sim::kSolverKindNames)));
     sub->add_option("--seed", o->seed, "Random seed: the fast solver's start perturbation (--perturb), the paper solver's stochastic phase");
     sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)");
     sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)");

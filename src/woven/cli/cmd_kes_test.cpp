@@ -259,9 +259,7 @@ int run_kes_test(const KesTestOptions& options)
         mo.bending_form = parse_choice(*options.bending_form, "--bending-form", {"work", "secant"}) == 0 ? model::BendingForm::WORK
                                                                                                         : model::BendingForm::SECANT;
     if (options.discretization)
-        mo.discretization = parse_choice(*options.discretization, "--discretization", {"convergent", "paper"}) == 0
-            ? model::Discretization::CONVERGENT
-            : model::Discretization::PAPER;
+        mo.discretization = parse_choice(*options.discretization, "--discretization", model::kDiscretizationNames);
     if (options.shear_law)
         mo.shear_law = parse_shear_law(*options.shear_law, "--shear-law");
     // kes-test shows the loops: friction unless asked otherwise (the model's default is the
@@ -421,7 +419,7 @@ int run_kes_test(const KesTestOptions& options)
 
     // Table.
     std::cout << "fabric " << name << " (bending form " << (mo.bending_form == model::BendingForm::WORK ? "work" : "secant")
-              << ", discretization " << (mo.discretization == model::Discretization::PAPER ? "paper" : "convergent") << ", "
+              << ", discretization " << model::to_string(mo.discretization) << ", "
               << shear_law_text(mo) << ", hysteresis " << model::to_string(mo.hysteresis) << ")\n";
     std::printf("%-10s %-5s %8s %12s %12s %9s %9s  %s\n", "test", "dir", "sigma_cm", "input", "simulated", "rel_err", "curve_err", "unit");
     for (const Row& r : rows) {
@@ -456,7 +454,7 @@ int run_kes_test(const KesTestOptions& options)
                              {"fabric", name},
                              {"fabric_source", options.given_fabric.data ? options.given_fabric.source : options.fabric},
                              {"bending_form", mo.bending_form == model::BendingForm::WORK ? "work" : "secant"},
-                             {"discretization", mo.discretization == model::Discretization::PAPER ? "paper" : "convergent"},
+                             {"discretization", model::to_string(mo.discretization)},
                              {"shear_law", to_string(mo.shear_law)},
                              {"shear_scale", mo.shear_scale},
                              {"hysteresis", model::to_string(mo.hysteresis)}};

@@ -39,21 +39,19 @@ std::string shear_law_text(const model::ModelOptions& options)
     return s.str();
 }
 
-const char* to_string(model::ShearLaw law) { return law == model::ShearLaw::MEASURED ? "measured" : "deembedded"; }
-
 model::ShearLaw parse_shear_law(const std::string& text, const std::string& option)
 {
-    return parse_choice(text, option, {"deembedded", "measured"}) == 0 ? model::ShearLaw::DEEMBEDDED : model::ShearLaw::MEASURED;
+    return parse_choice(text, option, model::kShearLawNames);
 }
 
 model::Hysteresis parse_hysteresis(const std::string& text, const std::string& option)
 {
-    return parse_choice(text, option, {"loading-branch", "friction"}) == 0 ? model::Hysteresis::LOADING_BRANCH : model::Hysteresis::FRICTION;
+    return parse_choice(text, option, model::kHysteresisNames);
 }
 
 model::BiasBending parse_bias_bending(const std::string& text, const std::string& option)
 {
-    return parse_choice(text, option, {"threads", "fabric"}) == 0 ? model::BiasBending::THREADS : model::BiasBending::FABRIC;
+    return parse_choice(text, option, model::kBiasBendingNames);
 }
 
 }  // namespace woven::cli

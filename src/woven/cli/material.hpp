@@ -22,8 +22,6 @@ void resolve_shear_law(const kes::FabricData& fabric, model::ModelOptions& optio
 /// "shear law deembedded (input curve x 1.0081)", for a run's progress lines.
 std::string shear_law_text(const model::ModelOptions& options);
 
-/// "deembedded" or "measured".
-const char* to_string(model::ShearLaw law);
 /// The law a command-line word names (`--shear-law`); InputError naming `option` otherwise.
 model::ShearLaw parse_shear_law(const std::string& text, const std::string& option);
 /// --hysteresis: loading-branch or friction (the one-line error otherwise).

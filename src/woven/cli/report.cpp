@@ -88,14 +88,14 @@ nlohmann::json energy_json(const model::EnergyTerms& e)
 nlohmann::json model_json(const model::ClothModel& model, const model::ModelOptions& o)
 {
     const bool convergent = model.discretization() == model::Discretization::CONVERGENT;
-    return {{"discretization", convergent ? "convergent" : "paper"},
+    return {{"discretization", model::to_string(model.discretization())},
             {"bending_form", o.bending_form == model::BendingForm::WORK ? "work" : "secant"},
-            {"shear_law", o.shear_law == model::ShearLaw::MEASURED ? "measured" : "deembedded"},
+            {"shear_law", model::to_string(o.shear_law)},
             {"shear_scale", model.shear_scale()},
             {"hysteresis", model::to_string(model.hysteresis())},
             {"bias_bending", model::to_string(model.twist_rigidity() > 0 ? model::BiasBending::FABRIC : model::BiasBending::THREADS)},
             {"twist_rigidity_N_m", model.twist_rigidity()},
-            {"gram_force", o.gram_force == units::GramForce::PAPER ? "paper" : "standard"},
+            {"gram_force", units::to_string(o.gram_force)},
             {"dyn_per_gram_force", units::dyn_per_gram_force(o.gram_force)},
             {"tensile_stiffness_N_m", convergent ? model.spacing().tensile : 0.0},
             {"C0_J", model.spacing().C0},
@@ -179,8 +179,12 @@ nlohmann::json folds_json(const analysis::FoldAnalysis& fa, const analysis::Fold
     f["corners"] = nlohmann::json::array();
     for (int c = 0; c < 4; ++c) {
         nlohmann::json corner{{"corner", c}, {"billows", nlohmann::json::array()}, {"angles_deg", nlohmann::json::array()},
-                              {"standout_m", nlohmann::json::array()}};
+                              {"standout_m", nlohmann::json::array()}, {"structure", nlohmann::json::array()},
+                              {"asymmetry_deg", nlohmann::json::array()}};
         for (const auto& s : fa.sections) {
+            const std::vector<analysis::Billow> at = s.at_corner(c);
+            corner["structure"].push_back(analysis::to_string(analysis::corner_structure(at)));
+            corner["asymmetry_deg"].push_back(num(analysis::corner_asymmetry_deg(at)));
             nlohmann::json angles = nlohmann::json::array(), standout = nlohmann::json::array();
             for (const auto& b : s.at_corner(c)) {
                 angles.push_back(num(b.angle_deg));

@@ -4,6 +4,8 @@
 // in one place.
 #include <numbers>
 
+#include "woven/common/choice.hpp"
+
 namespace woven::units {
 
 /// The paper's gram-force: "1 gf is equivalent to 978.80 dynes" (Sec. 5.4 footnote), i.e. its
@@ -25,6 +27,10 @@ inline constexpr double kMgPerCm2ToKgPerM2 = 1e-2;
 
 /// Which gram-force converts KES forces and moments.
 enum class GramForce { PAPER, STANDARD };
+/// The conventions' names: "paper", "standard" (scene files, reports).
+inline constexpr std::array<Named<GramForce>, 2> kGramForceNames{{{GramForce::PAPER, "paper"}, {GramForce::STANDARD, "standard"}}};
+/// Its name in kGramForceNames.
+constexpr const char* to_string(GramForce gf) { return name_of(kGramForceNames, gf); }
 
 /// Dynes per gram-force for the chosen convention.
 constexpr double dyn_per_gram_force(GramForce gf)

@@ -175,7 +175,7 @@ void parse_cloth(const TomlTable& t, SceneSpec& s)
 
 void parse_solver(const TomlTable& t, sim::SolverOptions& o)
 {
-    o.kind = *sim::solver_kind_from_string(t.choice("kind", "fast", {"fast", "paper"}));
+    o.kind = t.choice("kind", sim::SolverKind::FAST, sim::kSolverKindNames);
     o.seed = static_cast<std::uint64_t>(
         t.integer("seed", 0, std::numeric_limits<long long>::max(), static_cast<long long>(o.seed)));
     o.max_steps = static_cast<int>(t.integer("max_steps", 0, 1'000'000'000, o.max_steps));
@@ -195,24 +195,12 @@ void parse_model(const TomlTable& t, model::ModelOptions& o)
     const bool work = o.bending_form == model::BendingForm::WORK;  // the model's default unless given
     o.bending_form = t.choice("bending_form", work ? "work" : "secant", {"secant", "work"}) == "work" ? model::BendingForm::WORK
                                                                                                      : model::BendingForm::SECANT;
-    const bool paper = o.discretization == model::Discretization::PAPER;
-    o.discretization = t.choice("discretization", paper ? "paper" : "convergent", {"convergent", "paper"}) == "paper"
-        ? model::Discretization::PAPER
-        : model::Discretization::CONVERGENT;
-    const bool measured = o.shear_law == model::ShearLaw::MEASURED;
-    o.shear_law = t.choice("shear_law", measured ? "measured" : "deembedded", {"deembedded", "measured"}) == "measured"
-        ? model::ShearLaw::MEASURED
-        : model::ShearLaw::DEEMBEDDED;
-    const bool friction = o.hysteresis == model::Hysteresis::FRICTION;
-    o.hysteresis = t.choice("hysteresis", friction ? "friction" : "loading-branch", {"loading-branch", "friction"}) == "friction"
-        ? model::Hysteresis::FRICTION
-        : model::Hysteresis::LOADING_BRANCH;
-    const bool fabric_bias = o.bias_bending == model::BiasBending::FABRIC;
-    o.bias_bending = t.choice("bias_bending", fabric_bias ? "fabric" : "threads", {"threads", "fabric"}) == "fabric" ? model::BiasBending::FABRIC
-                                                                                                                    : model::BiasBending::THREADS;
+    o.discretization = t.choice("discretization", o.discretization, model::kDiscretizationNames);
+    o.shear_law = t.choice("shear_law", o.shear_law, model::kShearLawNames);
+    o.hysteresis = t.choice("hysteresis", o.hysteresis, model::kHysteresisNames);
+    o.bias_bending = t.choice("bias_bending", o.bias_bending, model::kBiasBendingNames);
     o.tensile_stiffness = t.number("tensile_stiffness_N_m", Range{0, 1e9, false, "N/m"}, o.tensile_stiffness);
-    o.gram_force = t.choice("gram_force", "paper", {"paper", "standard"}) == "standard" ? units::GramForce::STANDARD
-                                                                                         : units::GramForce::PAPER;
+    o.gram_force = t.choice("gram_force", units::GramForce::PAPER, units::kGramForceNames);
     o.gravity = t.number("gravity_m_s2", Range{0, 1000, true, "m/s^2"}, o.gravity);
     o.C0 = t.number("C0_J", Range{0, 1e3, false, "J"}, o.C0);
 }

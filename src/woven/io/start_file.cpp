@@ -54,16 +54,15 @@ StartState parse_start_obj(std::string_view text, const std::string& source, con
     StartState s;
     s.x = fallback;
     s.x.resize(n, Vec3::Zero());
-    if (vt.empty()) {
-        if (static_cast<int>(v.size()) != n)
-            throw InputError(source, "v",
-                             std::to_string(v.size()) + " vertices without texture coordinates; expected the " + std::to_string(grid.nu) + " x " +
-                                 std::to_string(grid.nv) + " grid's " + std::to_string(n) + " particles (a drape of the same scene and grid)");
+    const std::string expected = "expected a drape of the same scene and grid (" + std::to_string(grid.nu) + " x " + std::to_string(grid.nv) +
+                                 ", spacing " + std::to_string(grid.sigma) + " m): its " + std::to_string(n) +
+                                 " particles in grid order, or a cut cloth's vertices with vt at their rest positions in spacings";
+    if (static_cast<int>(v.size()) == n) {  // a whole grid (drape.obj of an uncut cloth): grid order
         for (int p = 0; p < n; ++p)
             if (cloth(p)) s.x[p] = v[p];
     } else {
         if (vt.size() != v.size())
-            throw InputError(source, "vt", std::to_string(vt.size()) + " texture coordinates for " + std::to_string(v.size()) + " vertices; expected one per vertex");
+            throw InputError(source, "v", std::to_string(v.size()) + " vertices, " + std::to_string(vt.size()) + " texture coordinates; " + expected);
         // The vertex at each grid point: vt rounded to the grid's rest positions.
         std::map<std::pair<long, long>, int> at;
         const Vec2 origin = model::rest_uv(grid, 0, 0) / grid.sigma;
@@ -73,23 +72,19 @@ StartState parse_start_obj(std::string_view text, const std::string& source, con
             if (std::abs(g.x() - i) > kRestTolerance || std::abs(g.y() - j) > kRestTolerance) continue;
             at.emplace(std::make_pair(static_cast<long>(i), static_cast<long>(j)), static_cast<int>(k));
         }
-        int missing = 0, first_i = -1, first_j = -1;
-        for (int j = 0; j < grid.nv; ++j)
-            for (int i = 0; i < grid.nu; ++i) {
-                const int p = grid.index(i, j);
-                if (!cloth(p)) continue;
-                const auto it = at.find({i, j});
-                if (it == at.end()) {
-                    if (missing++ == 0) first_i = i, first_j = j;
-                    continue;
-                }
-                s.x[p] = v[it->second];
+        int missing = 0;
+        for (int p = 0; p < n; ++p) {
+            if (!cloth(p)) continue;
+            const auto it = at.find({p % grid.nu, p / grid.nu});
+            if (it == at.end()) {
+                ++missing;
+                continue;
             }
+            s.x[p] = v[it->second];
+        }
         if (missing > 0)
-            throw InputError(source, "vt",
-                             std::to_string(missing) + " of the cloth's particles have no vertex at their rest position (the first at grid (" +
-                                 std::to_string(first_i) + ", " + std::to_string(first_j) + ")); expected a drape of the same scene and grid (" +
-                                 std::to_string(grid.nu) + " x " + std::to_string(grid.nv) + ", spacing " + std::to_string(grid.sigma) + " m)");
+            throw InputError(source, "v",
+                             std::to_string(v.size()) + " vertices, " + std::to_string(missing) + " of the cloth's particles without one at its rest position; " + expected);
     }
     s.sha256 = sha256_hex(text);
     return s;

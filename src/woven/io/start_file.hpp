@@ -19,14 +19,13 @@ struct StartState {
     std::string sha256;
 };
 
-/// The start held in OBJ text: `v x y z` lines (m, z up, as woven writes them) and, where the
-/// file has them, one `vt u v` per vertex, the vertex's rest position in particle spacings
-/// (model::rest_uv / sigma). With texture coordinates each cloth particle (`active`, one flag per
-/// grid particle; empty: all) takes the vertex at its rest position (extra vertices, such as a cut
-/// outline's, are ignored); without them the vertices are the grid's particles in grid order
-/// (exactly grid.size() of them). Particles that are not cloth keep `fallback`'s positions.
-/// Throws InputError(source, field, ...) naming what differs: "v" (a vertex count or a
-/// non-finite coordinate), "vt" (a particle without a vertex at its rest position).
+/// The start held in OBJ text: `v x y z` lines (m, z up, as woven writes them). Exactly
+/// grid.size() vertices are the grid's particles in grid order (an uncut cloth's drape.obj);
+/// otherwise each vertex has a `vt u v`, its rest position in particle spacings (model::rest_uv /
+/// sigma, as a cut cloth's drape.obj and cusick.obj have them), and each cloth particle
+/// (`active`, one flag per grid particle; empty: all) takes the vertex at its rest position
+/// (extra vertices, such as an outline's, are ignored). Particles that are not cloth keep
+/// `fallback`'s positions. Throws InputError(source, "v" or "vt", ...) naming what differs.
 StartState parse_start_obj(std::string_view text, const std::string& source, const model::Grid& grid,
                            const std::vector<char>& active, const Positions& fallback);
 

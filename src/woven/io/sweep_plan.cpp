@@ -50,19 +50,19 @@ const std::vector<KeySpec>& key_specs()
         {"spacing_cm", "cusick", "--spacing-cm", Kind::NUMBER, 0, 10, true},
         {"specimen_cm", "cusick", "--specimen-cm", Kind::NUMBER, 0, 200, true},
         {"disc_cm", "cusick", "--disc-cm", Kind::NUMBER, 0, 200, true},
-        {"solver", "drape", "--solver", Kind::CHOICE, 0, 0, false, {"fast", "paper"}},
+        {"solver", "drape", "--solver", Kind::CHOICE, 0, 0, false, names_of(sim::kSolverKindNames)},
         {"perturb_m", "drape", "--perturb", Kind::NUMBER, 0, 0.1},
         {"max_steps", "drape cusick", "--max-steps", Kind::INTEGER, 0, 1'000'000},
         {"threads", "drape cusick", "--threads", Kind::INTEGER, 0, 4096},
         {"width", "drape", "--width", Kind::INTEGER, 1, 16384},
         {"height", "drape", "--height", Kind::INTEGER, 1, 16384},
-        {"shear_law", "cusick kes-test", "--shear-law", Kind::CHOICE, 0, 0, false, {"deembedded", "measured"}},
+        {"shear_law", "cusick kes-test", "--shear-law", Kind::CHOICE, 0, 0, false, names_of(model::kShearLawNames)},
         {"test", "kes-test", "--test", Kind::CHOICE, 0, 0, false, {"cantilever", "bending", "shear", "all"}},
         {"direction", "kes-test", "--direction", Kind::CHOICE, 0, 0, false, {"warp", "weft", "both"}},
         {"sigma_cm", "kes-test", "--sigma-cm", Kind::NUMBER, 0.02, 2},
         {"shear_length_cm", "kes-test", "--shear-length-cm", Kind::NUMBER, 5, 200},
         {"bending_form", "kes-test", "--bending-form", Kind::CHOICE, 0, 0, false, {"work", "secant"}},
-        {"discretization", "kes-test", "--discretization", Kind::CHOICE, 0, 0, false, {"convergent", "paper"}},
+        {"discretization", "kes-test", "--discretization", Kind::CHOICE, 0, 0, false, names_of(model::kDiscretizationNames)},
     };
     return specs;
 }

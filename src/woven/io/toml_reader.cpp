@@ -302,6 +302,11 @@ std::string TomlTable::string(std::string_view key, std::optional<std::string> d
 std::string TomlTable::choice(std::string_view key, std::optional<std::string> def,
                               std::initializer_list<std::string_view> choices) const
 {
+    return choice(key, std::move(def), std::span<const std::string_view>(choices.begin(), choices.size()));
+}
+
+std::string TomlTable::choice(std::string_view key, std::optional<std::string> def, std::span<const std::string_view> choices) const
+{
     std::string list;
     for (auto c : choices) list += (list.empty() ? "" : ", ") + std::string("\"") + std::string(c) + "\"";
     const toml::node* n = table_->get(key);

@@ -3,11 +3,13 @@
 // in errors ("<source>: <field>: <what is expected>"), ranges for every number, and used-key
 // bookkeeping: every key a getter reads is marked, and the keys never read are reported as
 // warnings "<source>:<line>: <field>: unknown key, ignored". Scene and fabric files use it.
+#include <array>
 #include <cstddef>
 #include <initializer_list>
 #include <memory>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,6 +17,8 @@
 #include <Eigen/Core>
 #include <nlohmann/json_fwd.hpp>
 #include <toml++/toml.h>
+
+#include "woven/common/choice.hpp"
 
 namespace woven::io {
 
@@ -89,6 +93,15 @@ public:
     /// A string from a fixed set.
     std::string choice(std::string_view key, std::optional<std::string> def,
                        std::initializer_list<std::string_view> choices) const;
+    std::string choice(std::string_view key, std::optional<std::string> def, std::span<const std::string_view> choices) const;
+    /// A value of an enum by its name in the enum's table (common/choice.hpp); `def` when absent.
+    template <class E, std::size_t N>
+    E choice(std::string_view key, E def, const std::array<Named<E>, N>& table) const
+    {
+        std::array<std::string_view, N> names;
+        for (std::size_t k = 0; k < N; ++k) names[k] = table[k].name;
+        return *value_named(table, choice(key, std::string(name_of(table, def)), std::span<const std::string_view>(names)));
+    }
     /// A fixed-length array of numbers, each in `range`.
     template <int N>
     Eigen::Matrix<double, N, 1> vec(std::string_view key, const Range& range,

@@ -27,10 +27,7 @@ double& EnergyTerms::operator[](Term t)
     return gravity;
 }
 
-const char* to_string(BiasBending b)
-{
-    return b == BiasBending::THREADS ? "threads" : "fabric";
-}
+const char* to_string(BiasBending b) { return name_of(kBiasBendingNames, b); }
 
 double bias_rigidity_estimate(double B_warp, double B_weft)
 {

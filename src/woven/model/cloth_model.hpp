@@ -41,6 +41,10 @@ struct EnergyTerms {
 
 /// The shear law of ModelOptions::shear_law.
 enum class ShearLaw { DEEMBEDDED, MEASURED };
+/// The laws' names: "deembedded", "measured" (scene files, the command line, reports).
+inline constexpr std::array<Named<ShearLaw>, 2> kShearLawNames{{{ShearLaw::DEEMBEDDED, "deembedded"}, {ShearLaw::MEASURED, "measured"}}};
+/// Its name in kShearLawNames.
+inline const char* to_string(ShearLaw law) { return name_of(kShearLawNames, law); }
 
 /// What resists a bend across the threads (ModelOptions::bias_bending).
 ///   THREADS: the threads' bending alone (the paper's Eq. 7-12): a bend at angle a to the warp
@@ -50,7 +54,9 @@ enum class ShearLaw { DEEMBEDDED, MEASURED };
 ///     (kes::FabricData::bias_B) or, where it has none, bias_rigidity_estimate.
 enum class BiasBending { THREADS, FABRIC };
 
-/// "threads" or "fabric".
+/// The settings' names: "threads", "fabric" (scene files, the command line, reports).
+inline constexpr std::array<Named<BiasBending>, 2> kBiasBendingNames{{{BiasBending::THREADS, "threads"}, {BiasBending::FABRIC, "fabric"}}};
+/// Its name in kBiasBendingNames.
 const char* to_string(BiasBending b);
 
 /// Model settings beyond the fabric (SI).

@@ -9,7 +9,7 @@
 
 namespace woven::model {
 
-const char* to_string(Hysteresis h) { return h == Hysteresis::FRICTION ? "friction" : "loading-branch"; }
+const char* to_string(Hysteresis h) { return name_of(kHysteresisNames, h); }
 
 // ---------------------------------------------------------------------------------------------
 // The Jenkins elements

@@ -35,6 +35,7 @@
 #include <array>
 #include <vector>
 
+#include "woven/common/choice.hpp"
 #include "woven/common/types.hpp"
 #include "woven/model/energy_functions.hpp"
 #include "woven/model/terms.hpp"
@@ -52,7 +53,10 @@ enum class Hysteresis {
     FRICTION,
 };
 
-/// "loading-branch" or "friction".
+/// The modes' names: "loading-branch", "friction" (scene files, the command line, reports).
+inline constexpr std::array<Named<Hysteresis>, 2> kHysteresisNames{{{Hysteresis::LOADING_BRANCH, "loading-branch"},
+                                                                    {Hysteresis::FRICTION, "friction"}}};
+/// Its name in kHysteresisNames.
 const char* to_string(Hysteresis h);
 
 /// Jenkins elements per bend or crossing.

@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "woven/common/choice.hpp"
 #include "woven/model/grid.hpp"
 
 namespace woven::model {
@@ -42,6 +43,11 @@ namespace woven::model {
 ///     neighbour replaced by the particle itself). The discrete energy is then a
 ///     second-order quadrature of the continuum's (docs/VALIDATION.md).
 enum class Discretization { PAPER, CONVERGENT };
+/// The discretizations' names: "convergent", "paper" (scene files, the command line, reports).
+inline constexpr std::array<Named<Discretization>, 2> kDiscretizationNames{{{Discretization::CONVERGENT, "convergent"},
+                                                                            {Discretization::PAPER, "paper"}}};
+/// Its name in kDiscretizationNames.
+inline const char* to_string(Discretization d) { return name_of(kDiscretizationNames, d); }
 
 /// The particle indices of one term's stencil, in the order of the sketches above.
 template <int N> using Stencil = std::array<int, N>;

@@ -13,17 +13,21 @@
 #include <string_view>
 #include <vector>
 
+#include "woven/common/choice.hpp"
 #include "woven/common/types.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/model/cloth_model.hpp"
+#include "woven/sim/solver_support.hpp"  // the equilibrium measures (residual_forces, ...)
 
 namespace woven::sim {
 
 enum class SolverKind { FAST, PAPER };
 
-/// "fast" or "paper".
+/// The solvers' names: "fast", "paper" (scene files, the command line, reports).
+inline constexpr std::array<Named<SolverKind>, 2> kSolverKindNames{{{SolverKind::FAST, "fast"}, {SolverKind::PAPER, "paper"}}};
+/// Its name in kSolverKindNames.
 const char* to_string(SolverKind kind);
-/// The kind named "fast" or "paper"; nullopt for any other name.
+/// The kind named in kSolverKindNames; nullopt for any other name.
 std::optional<SolverKind> solver_kind_from_string(std::string_view name);
 /// The step limit when SolverOptions::max_steps is 0: fast 400 steps, paper 200000.
 int default_max_steps(SolverKind kind);
@@ -39,7 +43,8 @@ struct LineSearchOptions {
     double roundoff = 1e-13;
 };
 
-/// Settings of the fast solver (fast_solver.cpp) beyond the shared ones, with their units.
+/// Settings of the fast solver (fast_solver.cpp) beyond the shared ones, with their units; each
+/// field's measured effect: docs/SOLVER.md "Every option".
 struct FastSolverOptions {
     int max_newton_iterations = 120;  ///< per step; a step that needs more is halved
     double max_time_step = 20.0;      ///< s: the largest step, effectively static
@@ -55,7 +60,7 @@ struct FastSolverOptions {
     /// ... or more than this times the cloth's longer side, where that is more: the fall's path
     /// needs resolving to a fraction of the cloth, not of the spacing (the 51 x 51 cube's 0.03
     /// sigma is 6e-4 of its side; on the 101 x 101 cube 0.05 sigma took 568 -> 403 Newton
-    /// iterations and a lower drape; 201 x 201 was not faster, bench/NOTES.md "Session 8")
+    /// iterations and a lower drape; 201 x 201 was not faster, bench/NOTES.md "the fall's path tolerance")
     double dynamic_step_cloth_fraction = 5e-4;
     double static_tolerance_factor = 0.5;  ///< static Newton tolerance, times residual_tolerance (below the equilibrium test's, which lets obstacles push)
     double min_newton_step = 1e-10;   ///< m: a Newton step whose largest particle move is below this has converged
@@ -68,7 +73,7 @@ struct FastSolverOptions {
     /// ... and in the static steps' projected Newton (far from rest, above static_newton_cg_below):
     /// a stale factor then preconditions CG to this often enough to skip a factorisation. The
     /// same drapes; 201 x 201 1554 -> 927 factorisations, 12 % less CPU; 101 x 101 3-4 %;
-    /// 51 x 51 no change (bench/NOTES.md "Session 9")
+    /// 51 x 51 no change (bench/NOTES.md "a forcing term for the static steps' projected Newton")
     double static_projected_cg_tolerance = 0.1;
     int max_cg_iterations = 12;       ///< beyond this the Newton matrix is factorised afresh
     bool static_newton_cg = true;     ///< static steps: CG on the exact Hessian preconditioned by the projected one's factor (linear_solver.hpp)
@@ -76,9 +81,9 @@ struct FastSolverOptions {
     /// Far from rest the exact Hessian's CG stops at negative curvature or its iteration cap
     /// with poor steps: the 51 x 51 cube's first static step took 94 iterations of up to 48 CG
     /// iterations each (3356 in all); with projected Newton down to 1 m g, 785 CG iterations
-    /// and 23 % fewer seconds for the whole drape (bench/NOTES.md).
+    /// and 23 % fewer seconds for the whole drape (bench/NOTES.md "Stiff linear threads and Newton").
     double static_newton_cg_below = 1.0;
-    /// The static creep's continuation (bench/NOTES.md "Session 16"). On a fine grid the hanging
+    /// The static creep's continuation (bench/NOTES.md "the creep's continuation"). On a fine grid the hanging
     /// flaps refold in static steps that each run into the Newton cap: a straight Newton move of
     /// a turning flap lengthens its stiff threads with the square of the turn, so each iteration
     /// moves it a fraction of a millimetre. Once `creep_capped_steps` static steps have run into
@@ -210,24 +215,5 @@ struct Result {
 /// and every count from two up gives the same bits.
 Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress = {},
              const IterationCallback& iteration = {});
-
-/// x with each coordinate of each particle not `held` moved by amplitude * u, u uniform in
-/// [-1, 1] from a hash of (seed, particle, coordinate): the same bits on every machine and
-/// thread count (SolverOptions::perturbation). `held`: one flag per particle, or empty.
-Positions perturbed(const Positions& x, const std::vector<char>& held, double amplitude, std::uint64_t seed);
-
-/// Largest |x_i - y_i| over particles (m).
-double max_displacement(const Positions& x, const Positions& y);
-
-/// The residual force on each particle (N): -dE/dx less what the obstacles can hold (see
-/// Equilibrium: the inward normal part within the contact distance, and with friction mu a
-/// tangential part up to mu times that reaction). Pinned particles are not treated apart.
-Positions residual_forces(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
-                          double contact_distance, double friction = 0.0);
-
-/// Largest residual force on a free particle relative to its weight (see Equilibrium). With
-/// friction mu, an obstacle also holds a tangential force up to mu times its normal reaction.
-double max_residual_relative(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
-                             const std::vector<int>& pinned, double contact_distance, double friction = 0.0);
 
 }  // namespace woven::sim

@@ -19,6 +19,7 @@
 #include "woven/sim/contact.hpp"
 #include "woven/sim/line_search.hpp"
 #include "woven/sim/linear_solver.hpp"
+#include "woven/sim/solver_support.hpp"
 #include "woven/sim/solvers.hpp"
 
 namespace woven::sim::detail {

@@ -31,7 +31,7 @@ public:
         /// once its residual, falling on at its mean rate so far, would still be above the
         /// tolerance after max_cg_iterations: a failed attempt then costs a few solves, not
         /// max_cg_iterations (at 201 x 201 particles 12 solves cost about one factorisation).
-        /// The same drapes, 4-5 % faster at 51 and 101 x 101 (bench/NOTES.md "Session 14").
+        /// The same drapes, 4-5 % faster at 51 and 101 x 101 (bench/NOTES.md "a stale factor's CG gives up early").
         int cg_rate_check_after = 3;
     };
     NewtonLinearSolver();

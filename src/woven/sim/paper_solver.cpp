@@ -34,6 +34,7 @@
 #include <Eigen/Cholesky>
 
 #include "woven/common/error.hpp"
+#include "woven/sim/solver_support.hpp"
 #include "woven/sim/solvers.hpp"
 
 namespace woven::sim::detail {

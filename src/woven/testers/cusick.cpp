@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <iterator>
 #include <limits>
 #include <mutex>
 #include <thread>
@@ -53,9 +52,9 @@ void add_instrument(geometry::ObstacleSet& set, const CusickOptions& o, double d
 
 }  // namespace
 
-const char* clamp_name(CusickClamp clamp) { return clamp == CusickClamp::DISCS ? "discs" : "pinned"; }
+const char* clamp_name(CusickClamp clamp) { return name_of(kCusickClampNames, clamp); }
 
-const char* protocol_name(CusickProtocol protocol) { return protocol == CusickProtocol::LOWERED ? "lowered" : "release"; }
+const char* protocol_name(CusickProtocol protocol) { return name_of(kCusickProtocolNames, protocol); }
 
 double lower_step_m(const CusickOptions& o)
 {
@@ -195,7 +194,13 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     };
     bool going = true;
     if (options.protocol == CusickProtocol::RELEASE) {
-        going = stage(setup.obstacles);
+        if (options.guides.guides > 0) {  // first onto the guide rods, then on its own
+            geometry::ObstacleSet guided;
+            add_instrument(guided, options, setup.disc_top_z, setup.clamp_disc_bottom_z);
+            add_guide_rods(guided, options, setup.disc_top_z, options.guides);
+            going = stage(guided);
+        }
+        if (going) going = stage(setup.obstacles);
     } else {
         // LOWERED: the overhang on a plate lowered in stages, each a drape to rest from the last,
         // down to where the hem hangs free (R - r_d below the disc's top); the last stage
@@ -230,45 +235,39 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     return r;
 }
 
-Positions mode_start(const CusickSetup& setup, const CusickOptions& options, const CusickStart& start)
+void add_guide_rods(geometry::ObstacleSet& obstacles, const CusickOptions& options, double disc_top_z, const CusickStart& start)
 {
-    Positions x = setup.initial;
-    if (start.mode <= 0) return x;
-    const double R = 0.5 * options.specimen_diameter_m, rc = setup.clamp_radius;
-    const double z0 = setup.initial[setup.clamped.empty() ? 0 : setup.clamped.front()].z();
-    const int n = start.mode;
-    const auto amplitude = [&](double r, double beta) {
-        const double rho = rc + (r - rc) * std::cos(beta);
-        return 2 * rho / n * std::sqrt(std::max(r / rho - 1, 0.0));
-    };
-    double beta = kModeDroopDeg[std::size(kModeDroopDeg) - 1] * std::numbers::pi / 180;
-    for (double deg : kModeDroopDeg)
-        if (amplitude(R, deg * std::numbers::pi / 180) <= kModeMaxAmplitude * (R - rc)) {
-            beta = deg * std::numbers::pi / 180;
-            break;
-        }
-    for (int j = 0; j < setup.grid.nv; ++j)
-        for (int i = 0; i < setup.grid.nu; ++i) {
-            const int p = setup.grid.index(i, j);
-            if (!setup.cut.active[p]) continue;
-            const Vec2 uv = model::rest_uv(setup.grid, i, j);
-            const double r = uv.norm();
-            if (r <= rc) continue;
-            // Angles from the warp (+y) towards the weft (+x), as the shadow's nodes.
-            const double theta = std::atan2(uv.x(), uv.y());
-            const Vec2 radial = uv / r;
-            const double rho = rc + (r - rc) * std::cos(beta);
-            const Vec3 on_cone(rho * radial.x(), rho * radial.y(), z0 - (r - rc) * std::sin(beta));
-            const Vec3 normal(std::sin(beta) * radial.x(), std::sin(beta) * radial.y(), std::cos(beta));
-            x[p] = on_cone + amplitude(r, beta) * std::cos(n * (theta - start.phase_rad)) * normal;
-        }
-    return x;
+    const double R = 0.5 * options.specimen_diameter_m, rd = 0.5 * options.disc_diameter_m;
+    const double slope = kGuideRodSlopeDeg * std::numbers::pi / 180;
+    const double r0 = rd + kGuideRodInset, length = (R - r0) / std::cos(slope);
+    for (int k = 0; k < start.guides; ++k) {
+        // Angles from the warp (+y) towards the weft (+x), as the shadow's nodes.
+        const double a = start.phase_rad + 2 * std::numbers::pi * k / start.guides;
+        const Vec2 radial(std::sin(a), std::cos(a));
+        const Vec3 base(r0 * radial.x(), r0 * radial.y(), disc_top_z - kGuideRodDrop);
+        const Vec3 axis(std::cos(slope) * radial.x(), std::cos(slope) * radial.y(), -std::sin(slope));
+        obstacles.add(std::make_unique<geometry::Cylinder>(base, kGuideRodRadius, length, axis, 16));
+    }
 }
 
-double mode_phase(std::uint64_t seed, int mode)
+kes::FabricData stiffer_in_bending(const kes::FabricData& fabric, double factor)
 {
-    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(mode));
-    return uniform01(rng) * 2 * std::numbers::pi / mode;
+    kes::FabricData f = fabric;
+    for (kes::Measured<kes::BendingSummary>* b : {&f.bending_warp, &f.bending_weft}) {
+        for (double& m : b->curve.y) m *= factor;
+        if (b->summary) {
+            b->summary->B *= factor;
+            b->summary->two_HB *= factor;
+        }
+    }
+    if (f.bias_B) *f.bias_B *= factor;
+    return f;
+}
+
+double guide_phase(std::uint64_t seed, int guides)
+{
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(guides));
+    return uniform01(rng) * 2 * std::numbers::pi / guides;
 }
 
 CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions& search,
@@ -276,8 +275,8 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
 {
     std::vector<CusickStart> starts;
     if (search.release) starts.push_back({});
-    for (int m : search.modes) starts.push_back({m, mode_phase(options.solver.seed, m)});
-    const CusickSetup setup = make_cusick_setup(options);
+    for (int m : search.modes) starts.push_back({m, guide_phase(options.solver.seed, m), 0});
+    for (double f : search.stiffer) starts.push_back({0, 0, f});
     CusickSearch out;
     out.states.resize(starts.size());
     std::atomic<std::size_t> next{0};
@@ -286,15 +285,24 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
     const auto worker = [&] {
         for (std::size_t k = next++; k < starts.size() && !stop; k = next++) {
             CusickOptions o = options;
-            if (starts[k].mode > 0) o.start = mode_start(setup, options, starts[k]);
+            o.guides = starts[k];
             out.states[k].start = starts[k];
-            out.states[k].result = run_cusick(fabric, o, [&](const sim::StepInfo& s) {
+            const auto step = [&](const sim::StepInfo& s) {
                 if (stop) return false;
                 if (!progress) return true;
                 const std::lock_guard<std::mutex> lock(progress_mutex);
                 if (!progress(s)) stop = true;
                 return !stop.load();
-            });
+            };
+            int stages = 0;
+            if (starts[k].stiffer > 0) {  // the stiffer copy first, the fabric from its rest
+                const CusickResult stiff = run_cusick(stiffer_in_bending(fabric, starts[k].stiffer), o, step);
+                o.start = stiff.drape.x;
+                stages = stiff.stages;
+                if (stiff.drape.interrupted) stop = true;
+            }
+            out.states[k].result = run_cusick(fabric, o, step);
+            out.states[k].result.stages += stages;
             if (out.states[k].result.drape.interrupted) stop = true;
         }
     };

@@ -21,6 +21,7 @@
 #include <cstdint>
 
 #include "woven/analysis/drape_shadow.hpp"
+#include "woven/common/choice.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
 #include "woven/kes/fabric.hpp"
@@ -48,7 +49,9 @@ enum class CusickClamp {
              ///< by contact between the support disc and a clamp disc of radius r_d (obstacles)
 };
 
-/// "pinned" or "discs".
+/// The clamps' names: "pinned", "discs" (the command line, cusick.json).
+inline constexpr std::array<Named<CusickClamp>, 2> kCusickClampNames{{{CusickClamp::PINNED, "pinned"}, {CusickClamp::DISCS, "discs"}}};
+/// Its name in kCusickClampNames.
 const char* clamp_name(CusickClamp clamp);
 
 /// DISCS: the pinned core ends this many spacings inside the disc's rim; the ring beyond it is
@@ -75,11 +78,27 @@ enum class CusickProtocol {
     LOWERED,
 };
 
-/// "release" or "lowered".
+/// The protocols' names: "release", "lowered" (the command line, cusick.json).
+inline constexpr std::array<Named<CusickProtocol>, 2> kCusickProtocolNames{{{CusickProtocol::RELEASE, "release"},
+                                                                            {CusickProtocol::LOWERED, "lowered"}}};
+/// Its name in kCusickProtocolNames.
 const char* protocol_name(CusickProtocol protocol);
 
 /// LOWERED: the smallest automatic plate step (m), 2 spacings at the default spacing.
 inline constexpr double kCusickLowerStep = 0.01;
+
+/// A start of the search of rest states (search_cusick): the release from flat (guides 0), or
+/// the release onto `guides` guide rods radiating under the overhang, the first at `phase_rad`
+/// from the warp towards the weft, which hold the falling overhang up in as many ridges (nodes);
+/// once it rests on them they are taken away and it settles to rest on its own.
+/// Or (stiffer > 1) the continuation from a stiffer copy of the fabric: its bending curves
+/// (warp, weft, bias) times `stiffer` released and draped to rest first, then the fabric itself
+/// from there (a stiff fabric folds into fewer nodes; the state keeps them where they are stable).
+struct CusickStart {
+    int guides = 0;
+    double phase_rad = 0;
+    double stiffer = 0;
+};
 
 /// The instrument's settings (SI).
 struct CusickOptions {
@@ -115,6 +134,8 @@ struct CusickOptions {
     /// A start state replacing the flat one (one position per grid particle, m): a drape read
     /// back (`--start`); the clamp's particles keep the setup's. Empty: the flat start.
     Positions start;
+    /// RELEASE: first onto guide rods (CusickStart), then without them.
+    CusickStart guides;
     model::ModelOptions model;  ///< its hysteresis: LOADING_BRANCH (default) or FRICTION (the fast solver's)
     sim::SolverOptions solver;  ///< its seed and perturbation make the run-to-run variation
     analysis::DrapeShadowOptions shadow;
@@ -153,29 +174,19 @@ struct CusickResult {
     double spacing_m = 0;
     double specimen_area_m2 = 0;  ///< W x this is the specimen's mass
     int particles = 0;            ///< kept particles
-    int stages = 1;               ///< drapes run: LOWERED the plate's stages and the settling, and 2 per shake and 1 after
+    int stages = 1;               ///< drapes run: LOWERED the plate's stages and the settling, guides 2, and 2 per shake and 1 after
 };
 
-/// A start of the search of rest states (search_cusick): the release from flat (mode 0) or the
-/// overhang shaped with `mode` folds, the first at `phase_rad` from the warp (mode_start).
-struct CusickStart {
-    int mode = 0;
-    double phase_rad = 0;
-};
+/// The guide rods: thin cylinders (kGuideRodRadius) from kGuideRodInset beyond the disc's rim
+/// to the specimen's radius, kGuideRodDrop below the disc's top at the rim and sloping down at
+/// kGuideRodSlopeDeg, at angles phase + 2 pi k / guides.
+inline constexpr double kGuideRodRadius = 0.002;    ///< m
+inline constexpr double kGuideRodInset = 0.01;      ///< m
+inline constexpr double kGuideRodDrop = 0.01;       ///< m
+inline constexpr double kGuideRodSlopeDeg = 20.0;   ///< degrees below the horizontal
 
-/// The imposed-mode start: the overhang beyond the clamp as a cone drooping at beta below the
-/// horizontal with `mode` folds along its normal, each ring of rest radius r at cone radius rho
-/// folded with the amplitude that keeps its length, a = (2 rho / n) sqrt(r / rho - 1) (a ring of
-/// radius rho waved by a cos(n theta) is 2 pi rho (1 + (a n / rho)^2 / 4) long): a nearly
-/// isometric folded start. beta is the steepest in kModeDroopDeg whose hem amplitude stays
-/// within kModeMaxAmplitude of the overhang (2 folds droop little, 12 hang steep). The clamp's
-/// particles keep setup.initial's positions.
-Positions mode_start(const CusickSetup& setup, const CusickOptions& options, const CusickStart& start);
-
-/// The droops tried for a mode start (degrees below the horizontal), steepest first, and the
-/// largest fold amplitude at the hem as a fraction of the overhang.
-inline constexpr double kModeDroopDeg[] = {70, 60, 50, 40, 30, 20, 10};
-inline constexpr double kModeMaxAmplitude = 0.6;
+/// Adds the guide rods of `start` (none for guides 0) to `obstacles`.
+void add_guide_rods(geometry::ObstacleSet& obstacles, const CusickOptions& options, double disc_top_z, const CusickStart& start);
 
 /// One rest state the search found.
 struct CusickState {
@@ -183,23 +194,26 @@ struct CusickState {
     CusickResult result;
 };
 
-/// The search of rest states (issue: a drape has many; the release from flat lands in a high
-/// one): the release and one start per imposed mode, each draped to rest by run_cusick's
-/// protocol, every state kept. The prediction is the state of lowest energy (docs/CUSICK.md,
+/// The search of rest states (a drape has many; the release from flat lands in a high one): the
+/// release and one start per guide count, each draped to rest by run_cusick, every state kept. The prediction is the state of lowest energy (docs/CUSICK.md,
 /// "The search of rest states": why).
 struct CusickSearchOptions {
     bool release = true;     ///< the release from flat is one of the starts
-    std::vector<int> modes;  ///< the imposed modes (2 .. 12 for woven cusick --search)
+    std::vector<int> modes;  ///< the guide counts (2 .. 12 for woven cusick --search)
+    std::vector<double> stiffer;  ///< the continuations' bending factors (4 and 16 for woven cusick --search)
     int jobs = 1;            ///< starts run at once (each on options.solver.threads threads)
 };
 struct CusickSearch {
-    std::vector<CusickState> states;  ///< in the order of the starts: the release, then the modes
+    std::vector<CusickState> states;  ///< in the order of the starts: the release, then the guide counts
     int prediction = -1;              ///< the state of lowest total energy
     bool interrupted = false;
 };
 
-/// The phase of the mode-n start of a seed: uniform in [0, 2 pi / n) from (seed, n), mt19937_64.
-double mode_phase(std::uint64_t seed, int mode);
+/// The phase of the n-guide start of a seed: uniform in [0, 2 pi / n) from (seed, n), mt19937_64.
+double guide_phase(std::uint64_t seed, int guides);
+
+/// The fabric with its bending curves (warp, weft and the bias B) times `factor` (> 0).
+kes::FabricData stiffer_in_bending(const kes::FabricData& fabric, double factor);
 
 /// Runs the search. `progress` may be called from several threads at once (jobs > 1) and
 /// returns false to stop every start.
