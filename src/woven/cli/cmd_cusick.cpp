@@ -224,6 +224,14 @@ int run_cusick(const CusickCommandOptions& o)
         const std::string what = e.what();
         throw InputError(kCommandLine, opt, what.substr(what.find(f + ": ") + f.size() + 2));
     }
+    // The drape estimate (one for every command that drapes), before anything large is built.
+    // --search runs --jobs starts at once in this process: each its own solve.
+    MemoryEstimate need = estimate_drape_memory(setup.cut.count, threads_to_use(co.solver.threads));
+    const int at_once = o.search ? std::max(1, search.jobs) : 1;
+    need.address_space_bytes += (at_once - 1) * need.resident_bytes;
+    need.resident_bytes *= at_once;
+    check_memory_estimate(need, setup.cut.count, kCommandLine, o.spacing_cm ? "--spacing-cm" : "--specimen-cm",
+                          at_once > 1 ? "use a larger --spacing-cm or fewer --jobs" : "use a larger --spacing-cm");
     with_fabric_source(command_fabric_source(o.fabric, o.given_fabric), [&] { resolve_shear_law(fabric, co.model); });
     std::string start_sha256;
     if (o.start) {
