@@ -7,21 +7,25 @@ build=${1:?usage: run.sh BUILD [SECONDS] [TARGETS...]}
 seconds=${2:-60}
 shift $(( $# >= 2 ? 2 : $# ))
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf values corner_map output_set)
+[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf values corner_map output_set output_json sweep_plan glb_check)
 root=$(cd "$(dirname "$0")/.." && pwd)
 # Seeds are folders (libFuzzer runs a file argument once and stops); the corner map's are its
 # corpus, which holds a small valid map (docs/experiments' are 50 kB, over -max_len).
 declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets" [gltf]="$root/assets $root/fuzz/corpus/obj"
-                  [values]="" [corner_map]="" [output_set]="")
+                  [values]="" [corner_map]="" [output_set]="" [output_json]="" [sweep_plan]="$root/examples" [glb_check]="")
 declare -A dicts=([fabric]="-dict=$root/fuzz/toml.dict" [scene]="-dict=$root/fuzz/toml.dict" [obj]="-dict=$root/fuzz/obj.dict"
-                  [gltf]="-dict=$root/fuzz/obj.dict" [values]="-dict=$root/fuzz/values.dict" [corner_map]="-dict=$root/fuzz/json.dict" [output_set]="")
+                  [gltf]="-dict=$root/fuzz/obj.dict" [values]="-dict=$root/fuzz/values.dict" [corner_map]="-dict=$root/fuzz/json.dict" [output_set]=""
+                  [output_json]="-dict=$root/fuzz/json.dict" [sweep_plan]="-dict=$root/fuzz/toml.dict" [glb_check]="")
+# Per-input time limits: 20 s; a sweep plan may hold 10^6 values (1 s in Release, about 25 s
+# instrumented on the shared 2-core machine: slow, not a hang).
+declare -A timeouts=([sweep_plan]=90)
 status=0
 for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"
   mkdir -p "$work" "$build/fuzz-artifacts"
   echo "fuzz_$t: ${seconds} s" >&2
   log="$build/fuzz-$t.log"
-  "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=16384 \
+  "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout="${timeouts[$t]:-20}" -rss_limit_mb=4096 -max_len=16384 \
     ${dicts[$t]} -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
     "$work" "$root/fuzz/corpus/$t" ${seeds[$t]} > "$log" 2>&1 || { status=1; grep -A3 "ERROR\|deadly\|Test unit" "$log" >&2; }
   # The last coverage line and the final counts (the whole log is in $log).

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -105,4 +106,25 @@ TEST(RunChecks, NoTableWithANonFiniteNumber)
             EXPECT_STREQ(e.what(), "fit ended with a non-finite number (t.csv, line 3); no outputs written");
         }
     }
+}
+
+TEST(MemoryCheck, ShortOfFreeMemoryNowIsARuntimeFailureNotBadInput)
+{
+    // Within the lasting limits (none here) but above what is free at this moment: exit 1,
+    // "not enough memory now" (a dip in MemAvailable refused a default drape as bad input).
+    const cli::MemoryEstimate e = cli::estimate_drape_memory(51 * 51, 1);
+    try {
+        cli::check_memory_estimate(e, cli::MemoryLimit{}, 1e6, 2601, "scene.toml", "cloth.grid", "use a smaller grid");
+        FAIL();
+    } catch (const RuntimeError& err) {
+        EXPECT_THAT(std::string(err.what()), ::testing::HasSubstr("not enough memory now: 2601 particles need about"));
+    }
+    // Above a lasting limit: bad input, naming the field.
+    EXPECT_THROW(cli::check_memory_estimate(e, cli::MemoryLimit{1e6, "cgroup memory.max", false}, 1e12, 2601, "scene.toml", "cloth.grid",
+                                            "use a smaller grid"),
+                 InputError);
+    EXPECT_NO_THROW(cli::check_memory_estimate(e, cli::MemoryLimit{1e12, "cgroup memory.max", false}, 1e12, 2601, "scene.toml",
+                                               "cloth.grid", "use a smaller grid"));
+    // The machine's memory is a lasting limit; MemAvailable is not one.
+    EXPECT_NE(cli::memory_limit().what, "MemAvailable");
 }

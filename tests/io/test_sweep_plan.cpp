@@ -163,3 +163,52 @@ TEST(SweepPlan, FabricFilesResolveAgainstThePlanFolderAndNameTheFolder)
     EXPECT_EQ(pts[0].args[1], WOVEN_SOURCE_DIR "/fabrics/wool.toml");
     EXPECT_THAT(error_of("command = \"kes-test\"\n[axes]\nfabric = [\"nowhere/wool.toml\"]\n"), HasSubstr("(no such file: nowhere/wool.toml)"));
 }
+
+TEST(SweepPlanRules, NegativeZeroIsZero)
+{
+    // [0.0, -0.0] would run one point twice.
+    EXPECT_THAT(error_of("command = \"drape\"\n[axes]\nperturb_m = [0.0, -0.0]\n"), HasSubstr("axes.perturb_m: the value '0' is listed twice"));
+    EXPECT_THAT(error_of("command = \"drape\"\n[axes]\n\"scene.solver.contact_distance_m\" = [0.0, -0.0]\n"),
+                HasSubstr("is listed twice"));
+}
+
+TEST(SweepPlanRules, DistinctArraysOfInlineTablesAreNotDuplicates)
+{
+    const auto p = plan("command = \"drape\"\n[axes]\n\"scene.obstacle\" = [[{type = \"plane\"}], [{type = \"sphere\", radius_m = 0.1}]]\n");
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_EQ(p.point(0).scene_overrides[0].text, "[{\"type\" = \"plane\"}]");
+    EXPECT_EQ(p.point(1).scene_overrides[0].text, "[{\"radius_m\" = 0.1, \"type\" = \"sphere\"}]");
+    EXPECT_THAT(error_of("command = \"drape\"\n[axes]\n\"scene.obstacle\" = [[{type = \"plane\"}], [{type = \"plane\"}]]\n"),
+                HasSubstr("is listed twice"));
+}
+
+TEST(SweepPlanRules, TheSizeIsCountedBeforeAnyValueIsRead)
+{
+    // 10^12 points: refused on the count, before the axes' values are made (the bad third axis
+    // is never reached; reading the first two took 13 s and 300 MB).
+    const std::string e = error_of("command = \"drape\"\n[axes]\nseed = {from = 0, to = 999999}\nmax_steps = {from = 0, to = 999999}\n"
+                                   "grid = [1]\n");
+    EXPECT_EQ(e, "plan.toml: axes: expected at most 1000000 points, got 1000000000000");
+}
+
+TEST(SweepPlanRules, PointsAreMadeOnDemandAsTheListMakesThem)
+{
+    const auto p = plan("command = \"cusick\"\n[axes]\nfabric = [\"cotton\", \"wool\"]\nseed = [1, 2, 3]\n");
+    const auto all = p.points();
+    ASSERT_EQ(all.size(), 6u);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        EXPECT_EQ(p.point(i).name, all[i].name);
+        EXPECT_EQ(p.point(i).args, all[i].args);
+    }
+    EXPECT_EQ(p.point(4).name, "fabric-wool_seed-2");
+}
+
+TEST(SweepPlanRules, AFileThatIsNotAFabricIsRefusedUpFront)
+{
+    const auto e = error_of("command = \"kes-test\"\n[axes]\nfabric = [\"" WOVEN_SOURCE_DIR "/scenes/cube.toml\"]\n");
+    EXPECT_THAT(e, HasSubstr("plan.toml: axes.fabric[1]: expected a built-in fabric"));
+    EXPECT_THAT(e, HasSubstr("got '" WOVEN_SOURCE_DIR "/scenes/cube.toml': "));
+    // A scene file is read as `woven drape` reads it: one that does not parse is refused too.
+    EXPECT_THAT(error_of("command = \"drape\"\n[axes]\nscene = [\"" WOVEN_SOURCE_DIR "/assets/chair.obj\"]\n"),
+                HasSubstr("plan.toml: axes.scene[1]: expected a built-in scene"));
+}

@@ -194,7 +194,7 @@ int run_cusick(const CusickCommandOptions& o)
     if (!o.search && (o.modes || o.jobs)) throw InputError(kCommandLine, o.modes ? "--modes" : "--jobs", "expected only with --search");
     if (o.search && o.start) throw InputError(kCommandLine, "--start", "expected without --search (the search makes its own starts)");
     if (o.search) {
-        search.modes = parse_modes(o.modes.value_or("2-12"));
+        search.modes = parse_modes(o.modes.value_or("2"));
         search.stiffer = {4.0, 16.0};
         if (o.jobs) search.jobs = static_cast<int>(parse_integer(*o.jobs, "--jobs", 1, 64));
     }
@@ -225,6 +225,14 @@ int run_cusick(const CusickCommandOptions& o)
         const std::string what = e.what();
         throw InputError(kCommandLine, opt, what.substr(what.find(f + ": ") + f.size() + 2));
     }
+    // The drape estimate (one for every command that drapes), before anything large is built.
+    // --search runs --jobs starts at once in this process: each its own solve.
+    MemoryEstimate need = estimate_drape_memory(setup.cut.count, threads_to_use(co.solver.threads));
+    const int at_once = o.search ? std::max(1, search.jobs) : 1;
+    need.address_space_bytes += (at_once - 1) * need.resident_bytes;
+    need.resident_bytes *= at_once;
+    check_memory_estimate(need, setup.cut.count, kCommandLine, o.spacing_cm ? "--spacing-cm" : "--specimen-cm",
+                          at_once > 1 ? "use a larger --spacing-cm or fewer --jobs" : "use a larger --spacing-cm");
     with_fabric_source(command_fabric_source(o.fabric, o.given_fabric), [&] { resolve_shear_law(fabric, co.model); });
     std::string start_sha256;
     if (o.start) {
@@ -443,7 +451,7 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                   "that many guide rods under it, which are then taken away) and the continuations from copies 4 and 16 "
                   "times stiffer in bending, each draped to rest; the prediction is the state of lowest energy, every "
                   "state listed in cusick.json");
-    sub->add_option("--modes", o->modes, "--search: the guide counts, a range 2-12 (the default) or a list 3,5,7");
+    sub->add_option("--modes", o->modes, "--search: the guide counts, one (2, the default), a range 2-12 or a list 3,5,7");
     sub->add_option("--jobs", o->jobs, "--search: starts run at once (default 1; each on --threads threads)")->type_name("INT");
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");

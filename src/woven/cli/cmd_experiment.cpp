@@ -43,6 +43,7 @@
 #include "woven/io/input_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_file.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/io/sweep_plan.hpp"
@@ -145,8 +146,6 @@ struct Outcome {
     bool has_folds() const { return !folds.is_null(); }
 };
 
-/// The largest report.json of a point read back (a drape's is a few kB).
-constexpr std::size_t kMaxPointReportBytes = 16u << 20;
 
 /// The drape of `point` in `sweep_dir` (a complete point folder: run_sweep_points verified it):
 /// its report.json, and with `positions` its particles from drape.obj. RuntimeError when the
@@ -158,7 +157,7 @@ Outcome read_outcome(const std::string& sweep_dir, const io::SweepPoint& point, 
     Outcome d;
     d.fabric = fabric_label;
     try {
-        const nlohmann::json r = nlohmann::json::parse(io::read_input_file(path, kMaxPointReportBytes, {"point report", "a drape's report.json"}));
+        const nlohmann::json r = io::read_output_json(path, io::kMaxManifestBytes, "a drape's report.json");
         d.seed = r.at("seed").get<std::uint64_t>();
         d.converged = r.at("converged").get<bool>();
         d.steps = r.at("steps").get<int>();

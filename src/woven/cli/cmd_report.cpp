@@ -29,6 +29,7 @@
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/mesh_file.hpp"
+#include "woven/io/output_file.hpp"
 #include "woven/kes/curve.hpp"
 #include "woven/render/html_page.hpp"
 
@@ -57,13 +58,9 @@ struct PointView {
     std::string problem;
 };
 
-nlohmann::json read_json(const fs::path& p, const std::string& what)
+nlohmann::json read_json(const fs::path& p, const std::string& what, std::size_t limit = io::kMaxManifestBytes)
 {
-    try {
-        return nlohmann::json::parse(read_output_file(p.string()).value_or(""));
-    } catch (const nlohmann::json::exception& e) {
-        throw InputError(p.string(), "json", std::string("does not parse as ") + what + " (" + e.what() + ")");
-    }
+    return io::read_output_json(p.string(), limit, what);
 }
 
 std::string manifest_name(const fs::path& dir)
@@ -276,7 +273,7 @@ int run_report(const ReportOptions& o)
     std::string command, title, summary;
     const bool is_sweep = fs::exists(dir / "sweep.json");
     if (is_sweep) {
-        const nlohmann::json s = read_json(dir / "sweep.json", "a sweep's merged table");
+        const nlohmann::json s = read_json(dir / "sweep.json", "a sweep's merged table", io::kMaxSweepTableBytes);
         if (!s.is_object() || !s.contains("rows") || !s["rows"].is_array() || !s.contains("command") || !s["command"].is_string())
             throw InputError((dir / "sweep.json").string(), "rows", "expected the merged table of `woven sweep` (command, axes, rows)");
         command = s["command"].get<std::string>();

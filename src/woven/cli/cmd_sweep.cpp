@@ -42,10 +42,12 @@
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/resources.hpp"
+#include "woven/cli/run_checks.hpp"
 #include "woven/cli/progress.hpp"
 #include "woven/cli/sweep.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
+#include "woven/io/output_file.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/io/sweep_plan.hpp"
 
@@ -119,13 +121,14 @@ nlohmann::json point_signature(const io::SweepPoint& p)
 }
 
 
-std::optional<nlohmann::json> read_json(const fs::path& p)
+/// A JSON file of the sweep folder (point.json, a manifest, a failure record), read as
+/// io::read_output_json reads it; nullopt (and the reason in `why`) when it cannot be.
+std::optional<nlohmann::json> read_json(const fs::path& p, std::string* why = nullptr)
 {
-    const auto t = read_output_file(p.string());
-    if (!t) return std::nullopt;
     try {
-        return nlohmann::json::parse(*t);
-    } catch (const nlohmann::json::exception&) {
+        return io::read_output_json(p.string(), io::kMaxManifestBytes, "a file woven sweep wrote");
+    } catch (const InputError& e) {
+        if (why) *why = e.what();
         return std::nullopt;
     }
 }
@@ -249,6 +252,33 @@ int local_ranks()
     return 1;
 }
 
+/// `s` as one shell word: unchanged when it holds only [A-Za-z0-9_./=:,+@%-], else in single quotes.
+std::string shell_quote(const std::string& s)
+{
+    const bool plain = !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./=:,+@%-", c) != nullptr;
+    });
+    if (plain) return s;
+    std::string q = "'";
+    for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+/// The sweep's own folders (.work, failed) are made here, never followed: a symlink planted in
+/// their place (which would send failure records or work folders elsewhere) is bad usage.
+void require_own_folders(const fs::path& sweep)
+{
+    for (const char* name : {".work", "failed"}) {
+        const fs::path p = sweep / name;
+        std::error_code ec;
+        const auto st = fs::symlink_status(p, ec);
+        if (fs::is_symlink(st))
+            throw InputError(kCommandLine, "--out", p.string() + " is a symbolic link; expected the sweep's own folder (remove the link)");
+        if (fs::exists(st) && !fs::is_directory(st))
+            throw InputError(kCommandLine, "--out", p.string() + " exists and is not a directory");
+    }
+}
+
 /// A point's status in the sweep folder.
 struct PointState {
     bool done = false;
@@ -260,15 +290,20 @@ PointState point_state(const fs::path& sweep, const io::SweepPoint& p)
     PointState st;
     const fs::path dir = sweep / p.name;
     std::error_code ec;
+    if (fs::is_symlink(fs::symlink_status(dir, ec))) {
+        st.problem = dir.string() + ": a symbolic link, not a folder this sweep wrote";
+        return st;
+    }
     if (!fs::is_directory(dir, ec)) return st;
     const auto problems = check_output_folder(dir.string());
     if (!problems.empty()) {
         st.problem = problems.front();
         return st;
     }
-    const auto pj = read_json(dir / "point.json");
+    std::string why;
+    const auto pj = read_json(dir / "point.json", &why);
     if (!pj || !pj->is_object() || !pj->contains("plan")) {
-        st.problem = (dir / "point.json").string() + ": missing or unreadable";
+        st.problem = why.empty() ? (dir / "point.json").string() + ": missing or unreadable" : why;
         return st;
     }
     if ((*pj)["plan"] != point_signature(p)) {
@@ -282,7 +317,7 @@ PointState point_state(const fs::path& sweep, const io::SweepPoint& p)
 /// A point that is running: its child and work folder.
 struct Running {
     pid_t pid = -1;
-    const io::SweepPoint* point = nullptr;
+    io::SweepPoint point;
     fs::path work;
     std::chrono::steady_clock::time_point start;
     std::vector<std::string> args;
@@ -315,13 +350,14 @@ std::optional<std::string> plan_threads(const std::vector<std::string>& args)
 }
 
 /// "N thread(s)" each point runs on: the plan's --threads where its points give one (0: all
-/// cores), else the share of the cores the sweep passes.
-std::string threads_text(const std::vector<const io::SweepPoint*>& todo, int share)
+/// cores), else the share of the cores the sweep passes. Read from the first 1000 points to run
+/// (points are made on demand; a plan's threads are an option or an axis).
+std::string threads_text(const io::SweepPlan& plan, const std::vector<std::size_t>& todo, int share)
 {
     std::optional<std::string> given;
     bool some_given = false, some_not = false, differ = false;
-    for (const auto* p : todo) {
-        const auto t = plan_threads(p->args);
+    for (std::size_t k = 0; k < todo.size() && k < 1000; ++k) {
+        const auto t = plan_threads(plan.point(todo[k]).args);
         (t ? some_given : some_not) = true;
         if (t && given && *t != *given) differ = true;
         if (t && !given) given = t;
@@ -341,8 +377,8 @@ public:
     {
     }
 
-    /// Runs `todo`; returns the number that failed.
-    int run(const std::vector<const io::SweepPoint*>& todo)
+    /// Runs the points of the plan numbered `todo`; returns the number that failed.
+    int run(const std::vector<std::size_t>& todo)
     {
         fs::create_directories(work_root_);
         fs::create_directories(sweep_ / "failed");
@@ -354,7 +390,7 @@ public:
                 stop(running);
                 return failed_;
             }
-            while (next < todo.size() && static_cast<int>(running.size()) < jobs_) running.push_back(start(*todo[next++]));
+            while (next < todo.size() && static_cast<int>(running.size()) < jobs_) running.push_back(start(plan_.point(todo[next++])));
             int status = 0;
             const pid_t pid = ::waitpid(-1, &status, WNOHANG);
             if (pid <= 0) {
@@ -436,10 +472,11 @@ private:
         return args;
     }
 
-    Running start(const io::SweepPoint& p)
+    Running start(io::SweepPoint point)
     {
         Running r;
-        r.point = &p;
+        r.point = std::move(point);
+        const io::SweepPoint& p = r.point;
         r.work = work_root_ / (p.name + "." + host_ + "." + std::to_string(::getpid()));
         std::error_code ec;
         fs::remove_all(r.work, ec);
@@ -478,7 +515,7 @@ private:
     void finish(const Running& r, int status, std::size_t finished, std::size_t total)
     {
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - r.start).count();
-        const io::SweepPoint& p = *r.point;
+        const io::SweepPoint& p = r.point;
         const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
         std::ostringstream head;
         head << "[" << finished << "/" << total << "] " << p.name << ": ";
@@ -675,7 +712,8 @@ MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
     MergeCounts counts;
     nlohmann::json rows = nlohmann::json::array();
     std::vector<std::string> output_keys;
-    for (const auto& p : plan.points()) {
+    for (std::size_t index = 0; index < plan.size(); ++index) {
+        const io::SweepPoint p = plan.point(index);
         nlohmann::json row;
         row["point"] = p.name;
         row["index"] = p.index;
@@ -752,10 +790,15 @@ MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
 /// Reads every point's overridden scene and fabric with the commands' own readers before
 /// anything runs: a bad value or a key the file does not have (a warning when a scene is read)
 /// is an error naming the plan and the point.
-void validate_sweep_overrides(const io::SweepPlan& plan, const std::vector<io::SweepPoint>& points)
+void validate_sweep_overrides(const io::SweepPlan& plan)
 {
+    bool any = false;
+    for (const auto& a : plan.axes) any = any || a.key.rfind("scene.", 0) == 0 || a.key.rfind("fabric.", 0) == 0;
+    for (const auto& v : plan.fixed) any = any || v.key.rfind("scene.", 0) == 0 || v.key.rfind("fabric.", 0) == 0;
+    if (!any) return;
     std::set<std::string> seen;
-    for (const auto& p : points) {
+    for (std::size_t index = 0; index < plan.size(); ++index) {
+        const io::SweepPoint p = plan.point(index);
         if (p.scene_overrides.empty() && p.fabric_overrides.empty()) continue;
         const std::string key = point_signature(p).dump();
         if (!seen.insert(key).second) continue;
@@ -784,6 +827,54 @@ void validate_sweep_overrides(const io::SweepPlan& plan, const std::vector<io::S
 }
 
 
+namespace {
+
+/// A drape plan's points (and so an experiment's drapes) are held to the drape's memory
+/// estimate before the first starts: the largest of the points to run (up to 1,000 distinct
+/// scenes and grids looked at), `jobs` of them at once sharing the machine's memory, each its
+/// own address space.
+void check_points_memory(const io::SweepPlan& plan, const std::vector<std::size_t>& todo, int jobs, int threads)
+{
+    if (plan.command != "drape" || todo.empty()) return;
+    long long largest = 0;
+    std::string at;
+    std::set<std::string> seen;
+    for (const std::size_t index : todo) {
+        const io::SweepPoint p = plan.point(index);
+        io::SceneOverrides ov;
+        for (std::size_t k = 2; k + 1 < p.args.size(); ++k)
+            if (p.args[k] == "--grid") ov.grid = std::stoi(p.args[k + 1]);
+        std::string key = p.args[1] + "\n" + (ov.grid ? std::to_string(*ov.grid) : "");
+        for (const auto& o : p.scene_overrides) key += "\n" + o.key + "=" + o.text;
+        if (!seen.insert(key).second) continue;
+        if (seen.size() > 1000) break;
+        try {
+            std::vector<std::string> warnings;
+            io::SceneSpec scene = p.scene_overrides.empty()
+                                      ? io::find_scene(p.args[1], &warnings)
+                                      : io::parse_scene(io::apply_toml_overrides(io::scene_or_fabric_text(p.args[1], "scene"), p.args[1],
+                                                                                 p.scene_overrides),
+                                                        "scene " + p.args[1], ".", &warnings);
+            io::apply_overrides(scene, ov, plan.source);
+            const long long n = static_cast<long long>(scene.cloth.nu) * scene.cloth.nv;
+            if (n > largest) {
+                largest = n;
+                at = p.name;
+            }
+        } catch (const InputError&) {
+            // The point's own run reports it.
+        }
+    }
+    if (largest == 0) return;
+    MemoryEstimate e = estimate_drape_memory(largest, threads);
+    const double at_once = static_cast<double>(std::min<std::size_t>(static_cast<std::size_t>(jobs), todo.size()));
+    e.resident_bytes *= at_once;  // the address space is each point's own
+    check_memory_estimate(e, largest, plan.source, "point " + at,
+                          at_once > 1 ? "use a smaller grid or fewer --jobs (" + std::to_string(static_cast<int>(at_once)) + " points at once)" : "use a smaller grid");
+}
+
+}  // namespace
+
 int sweep_signal_received() { return g_sweep_signal.load(); }
 
 bool point_complete(const std::string& dir, const io::SweepPoint& point) { return point_state(dir, point).done; }
@@ -791,14 +882,15 @@ bool point_complete(const std::string& dir, const io::SweepPoint& point) { retur
 SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& out, const SweepRunOptions& o)
 {
     SweepRunResult res;
-    const std::vector<io::SweepPoint> points = plan.points();
-    validate_sweep_overrides(plan, points);
+    validate_sweep_overrides(plan);
     make_output_dir(out);
+    require_own_folders(out);
     install_signal_handlers(on_sweep_signal);
-    res.points = points.size();
-    std::vector<const io::SweepPoint*> todo;
-    for (const auto& p : points) {
-        if (!in_shard(p.index, o.shard)) continue;
+    res.points = plan.size();
+    std::vector<std::size_t> todo;
+    for (std::size_t index = 0; index < plan.size(); ++index) {
+        if (!in_shard(index, o.shard)) continue;
+        const io::SweepPoint p = plan.point(index);
         ++res.mine;
         const PointState st = point_state(out, p);
         if (st.done) {
@@ -806,17 +898,18 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
             continue;
         }
         if (!st.problem.empty()) std::cerr << "woven: warning: " << p.name << ": rerun: " << one_line(st.problem) << "\n";
-        todo.push_back(&p);
+        todo.push_back(index);
     }
     res.to_run = todo.size();
     const int jobs = o.jobs;
     const int cores = available_cores();
     const int threads = std::max(1, cores / (jobs * local_ranks()));
-    std::cerr << "sweep " << plan.name << " (" << plan.command << "): " << points.size() << " points";
+    check_points_memory(plan, todo, jobs, threads);
+    std::cerr << "sweep " << plan.name << " (" << plan.command << "): " << plan.size() << " points";
     if (o.shard.count > 1)
         std::cerr << ", shard " << o.shard.index << "/" << o.shard.count << " (" << o.shard.source << "): " << res.mine << " here";
     std::cerr << "; " << res.done_before << " done already, " << todo.size() << " to run, " << jobs << (jobs == 1 ? " job" : " jobs")
-              << " of " << threads_text(todo, threads) << "; folder " << out << "\n"
+              << " of " << threads_text(plan, todo, threads) << "; folder " << out << "\n"
               << std::flush;
     SweepRunner runner(plan, out, jobs, threads, o.on_start);
     res.failed = runner.run(todo);
@@ -844,15 +937,19 @@ int run_sweep(const SweepOptions& o)
     run.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
     run.shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
     if (o.list || o.merge) {
-        const std::vector<io::SweepPoint> points = plan.points();
-        validate_sweep_overrides(plan, points);
+        validate_sweep_overrides(plan);
         if (o.list) {
-            for (const auto& p : points) {
-                std::cout << p.index << " " << p.name << (in_shard(p.index, run.shard) ? "" : " (other shard)") << ":";
-                for (const auto& a : p.args) std::cout << " " << a;
-                for (const auto& v : p.scene_overrides) std::cout << " scene." << v.key << "=" << v.text;
-                for (const auto& v : p.fabric_overrides) std::cout << " fabric." << v.key << "=" << v.text;
-                std::cout << "\n";
+            // One point at a time (a million points are not held at once); every word shell-quoted
+            // where it needs it, so that a pasted line runs the same command.
+            std::string line;
+            for (std::size_t index = 0; index < plan.size(); ++index) {
+                const io::SweepPoint p = plan.point(index);
+                line = std::to_string(p.index) + " " + p.name + (in_shard(p.index, run.shard) ? "" : " (other shard)") + ":";
+                for (const auto& a : p.args) line += " " + shell_quote(a);
+                for (const auto& v : p.scene_overrides) line += " " + shell_quote("scene." + v.key + "=" + v.text);
+                for (const auto& v : p.fabric_overrides) line += " " + shell_quote("fabric." + v.key + "=" + v.text);
+                line += "\n";
+                std::cout << line;
             }
             return kExitOk;
         }

@@ -151,9 +151,9 @@ std::vector<std::string> check_output_folder(const std::string& dir, std::string
 
 /// `s` with its control characters written as \xNN, so that a message stays one line (main.cpp).
 std::string one_line(const std::string& s);
-/// A whole file the commands wrote (an output folder's manifest, log, picture) or an installed
-/// resource (three.js); nullopt when it cannot be opened or read. A user's input files go through
-/// io::read_input_file (bounded, regular files only).
+/// A whole file the commands wrote (a log, a picture) or an installed resource (three.js), a
+/// regular file of at most 1 GiB (io::read_output_member); nullopt when it cannot be read. JSON
+/// goes through io::read_output_json (depth-limited), input files through io::read_input_file.
 std::optional<std::string> read_output_file(const std::string& path);
 
 /// Prints "woven: warning: <w>" on stderr for each warning.

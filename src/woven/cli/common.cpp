@@ -11,17 +11,18 @@
 #include "woven/cli/run_checks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
+#include "woven/io/output_file.hpp"
+#include "woven/io/output_set.hpp"
 
 namespace woven::cli {
 
 std::optional<std::string> read_output_file(const std::string& path)
 {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream s;
-    s << in.rdbuf();
-    if (in.bad()) return std::nullopt;
-    return s.str();
+    try {
+        return io::read_output_member(path);
+    } catch (const InputError&) {
+        return std::nullopt;
+    }
 }
 
 /// One line: control characters (a newline from an input file) shown as \xNN.
@@ -49,11 +50,15 @@ void make_output_dir(const std::string& dir)
 {
     namespace fs = std::filesystem;
     std::error_code ec;
-    if (fs::is_directory(dir, ec)) return;
-    if (fs::exists(dir, ec)) throw InputError(kCommandLine, "--out", dir + " exists and is not a directory");
-    fs::create_directories(dir, ec);
-    // An I/O failure (exit 1), not bad input: the name is well formed, the system refuses it.
-    if (ec) throw RuntimeError(std::string(kCommandLine) + ": --out: cannot create the directory " + dir + ": " + ec.message());
+    if (!fs::is_directory(dir, ec)) {
+        if (fs::exists(dir, ec)) throw InputError(kCommandLine, "--out", dir + " exists and is not a directory");
+        fs::create_directories(dir, ec);
+        // An I/O failure (exit 1), not bad input: the name is well formed, the system refuses it.
+        if (ec) throw RuntimeError(std::string(kCommandLine) + ": --out: cannot create the directory " + dir + ": " + ec.message());
+    }
+    // Held open from now: the set is published into this folder even if the path is swapped
+    // for a symlink while the run works.
+    io::hold_output_dir(dir);
 }
 
 std::string safe_file_name(const std::string& text)

@@ -4,6 +4,7 @@
 //   SIGTERM (the state reached is written as a complete set marked interrupted).
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -12,6 +13,8 @@
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
@@ -36,6 +39,23 @@ void keep_freed_memory()
 #endif
 }
 
+/// Under an address-space or data limit (a batch scheduler's `ulimit -v`), OpenBLAS's worker
+/// threads, started as the library loads (before main), may fail to map their buffers: each then
+/// spins in blas_memory_alloc for ever and the exit handler waits for it (every command, even
+/// --version, printed its output and never ended). woven runs its BLAS on one thread anyway
+/// (sim/drape.cpp, sim/linear_solver.cpp), so under a limit the process starts again with
+/// OPENBLAS_NUM_THREADS=1 (read only at load time); the exec ends the spinning threads.
+void one_blas_thread_under_a_memory_limit(char** argv)
+{
+    if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr) return;
+    rlimit as {}, data {};
+    const bool limited = (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) ||
+                         (::getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY);
+    if (!limited) return;
+    ::setenv("OPENBLAS_NUM_THREADS", "1", 1);
+    ::execv("/proc/self/exe", argv);  // returns only when it fails: go on as we are
+}
+
 }  // namespace
 
 }  // namespace woven::cli
@@ -43,6 +63,7 @@ void keep_freed_memory()
 int main(int argc, char** argv)
 {
     using namespace woven::cli;
+    one_blas_thread_under_a_memory_limit(argv);
     keep_freed_memory();
     CLI::App app{"woven: drape of woven cloth from Kawabata (KES) measurements, after Breen, House & Wozny, "
                  "SIGGRAPH '94.\nExit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 130 interrupted (Ctrl-C), "

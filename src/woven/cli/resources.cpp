@@ -59,6 +59,17 @@ std::string cgroup_value(const std::string& file)
     return "";
 }
 
+/// A /proc/meminfo value ("MemTotal:", "MemAvailable:") in bytes; 0 when not found.
+double meminfo_bytes(const std::string& field)
+{
+    std::ifstream mem("/proc/meminfo");
+    std::string key, unit;
+    double kb = 0;
+    while (mem >> key >> kb >> unit)
+        if (key == field) return kb * 1024;
+    return 0;
+}
+
 }  // namespace
 
 int available_cores()
@@ -92,17 +103,11 @@ MemoryLimit memory_limit()
     if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) consider(double(rl.rlim_cur), "RLIMIT_AS", true);
     const std::string cg = cgroup_value("memory.max");
     if (!cg.empty()) consider(std::strtod(cg.c_str(), nullptr), "cgroup memory.max", false);
-    std::ifstream mem("/proc/meminfo");
-    std::string key;
-    double kb = 0;
-    std::string unit;
-    while (mem >> key >> kb >> unit)
-        if (key == "MemAvailable:") {
-            consider(kb * 1024, "MemAvailable", false);
-            break;
-        }
+    consider(meminfo_bytes("MemTotal:"), "the machine's memory (MemTotal)", false);
     return best;
 }
+
+double memory_available() { return meminfo_bytes("MemAvailable:"); }
 
 MemoryEstimate estimate_drape_memory(long long particles, int threads)
 {

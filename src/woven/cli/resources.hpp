@@ -13,13 +13,18 @@ int available_cores();
 /// The threads a run uses for a request (0: all available cores): min(request, available).
 int threads_to_use(int requested);
 
-/// The tightest memory limit on this process, in bytes, and where it comes from.
+/// The tightest lasting memory limit on this process, in bytes, and where it comes from: the
+/// address-space limit, the cgroup's memory.max or the machine's memory (MemTotal).
 struct MemoryLimit {
     double bytes = 0;  ///< 0: no limit found
-    std::string what;  ///< "RLIMIT_AS", "cgroup memory.max", "MemAvailable"
+    std::string what;  ///< "RLIMIT_AS", "cgroup memory.max", "the machine's memory (MemTotal)"
     bool virtual_memory = false;  ///< true for RLIMIT_AS (address space, not resident memory)
 };
 MemoryLimit memory_limit();
+
+/// The memory free for use now (MemAvailable), bytes; 0 when unknown. It changes from moment
+/// to moment: a run above it is a runtime failure ("not enough memory now"), not bad input.
+double memory_available();
 
 /// Estimated peak memory (bytes) of a drape of `particles` particles with `threads` threads:
 /// resident (RSS) memory, and the address space (which RLIMIT_AS limits). Fitted to peak RSS

@@ -57,14 +57,24 @@ void check_memory(long long particles, int threads, const std::string& source, c
 void check_memory_estimate(const MemoryEstimate& e, long long particles, const std::string& source, const std::string& field,
                            const std::string& advice)
 {
-    const MemoryLimit limit = memory_limit();
-    if (limit.bytes <= 0) return;
-    const double need = limit.virtual_memory ? e.address_space_bytes : e.resident_bytes;
-    if (need <= limit.bytes) return;
-    throw InputError(source, field,
-                     std::to_string(particles) + " particles need about " + gb(need) +
-                         (limit.virtual_memory ? " of address space" : "") + " (estimate), more than the " +
-                         gb(limit.bytes) + " of " + limit.what + "; " + advice);
+    check_memory_estimate(e, memory_limit(), memory_available(), particles, source, field, advice);
+}
+
+void check_memory_estimate(const MemoryEstimate& e, const MemoryLimit& limit, double available, long long particles,
+                           const std::string& source, const std::string& field, const std::string& advice)
+{
+    if (limit.bytes > 0) {
+        const double need = limit.virtual_memory ? e.address_space_bytes : e.resident_bytes;
+        if (need > limit.bytes)
+            throw InputError(source, field,
+                             std::to_string(particles) + " particles need about " + gb(need) +
+                                 (limit.virtual_memory ? " of address space" : "") + " (estimate), more than the " +
+                                 gb(limit.bytes) + " of " + limit.what + "; " + advice);
+    }
+    // Within the lasting limits but above what is free at this moment: a runtime failure.
+    if (available > 0 && e.resident_bytes > available)
+        throw RuntimeError("not enough memory now: " + std::to_string(particles) + " particles need about " + gb(e.resident_bytes) +
+                           " (estimate), " + gb(available) + " is available (MemAvailable); run again when memory is free");
 }
 
 void check_output_targets(const std::string& dir, const std::vector<std::string>& names)

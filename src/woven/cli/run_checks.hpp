@@ -28,6 +28,11 @@ void check_memory(long long particles, int threads, const std::string& source, c
 /// the message ("use a larger --sigma-cm").
 void check_memory_estimate(const MemoryEstimate& estimate, long long particles, const std::string& source,
                            const std::string& field, const std::string& advice);
+/// The check itself, against a lasting `limit` (RLIMIT_AS, cgroup, the machine's memory:
+/// InputError above it, exit 2) and the memory `available` now (0: unknown; RuntimeError "not
+/// enough memory now" above it, exit 1).
+void check_memory_estimate(const MemoryEstimate& estimate, const MemoryLimit& limit, double available, long long particles,
+                           const std::string& source, const std::string& field, const std::string& advice);
 
 /// Each `dir`/name that exists must be a regular file (bad usage otherwise: InputError
 /// "command line: --out: <path> exists and is not a regular file").

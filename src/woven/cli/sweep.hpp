@@ -70,7 +70,7 @@ int sweep_signal_received();
 
 /// Reads each point's overridden scene and fabric with the commands' own readers: a bad value
 /// or a key the file does not have is an InputError naming the plan and the point.
-void validate_sweep_overrides(const io::SweepPlan& plan, const std::vector<io::SweepPoint>& points);
+void validate_sweep_overrides(const io::SweepPlan& plan);
 
 /// True when <dir>/<point name>/ is complete (its manifest's files verify) and its point.json
 /// records the plan's command line for the point: resume skips it.

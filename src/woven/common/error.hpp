@@ -5,6 +5,14 @@
 
 namespace woven {
 
+/// `s` with each NUL byte written as \x00: what() is a C string, so a NUL (in a name a caller
+/// gave) would cut the message there.
+inline std::string without_nul(std::string s)
+{
+    for (std::size_t k = s.find('\0'); k != std::string::npos; k = s.find('\0', k + 4)) s.replace(k, 1, "\\x00");
+    return s;
+}
+
 /// Bad input: a malformed or inconsistent file, a value out of range, a bad option.
 /// The message is one line: "<source>: <field>: <what is expected>".
 class InputError : public std::runtime_error {
@@ -13,7 +21,7 @@ public:
         : std::runtime_error(compose(source, field, expected)), source_(source), field_(field)
     {
     }
-    explicit InputError(const std::string& message) : std::runtime_error(message) { }
+    explicit InputError(const std::string& message) : std::runtime_error(without_nul(message)) { }
     const std::string& source() const { return source_; }
     const std::string& field() const { return field_; }
 
@@ -22,7 +30,7 @@ private:
     {
         std::string m = source.empty() ? std::string() : source + ": ";
         if (!field.empty()) m += field + ": ";
-        return m + expected;
+        return without_nul(m + expected);
     }
     std::string source_, field_;
 };
@@ -30,7 +38,8 @@ private:
 /// A failure while running on valid input (I/O error, solver breakdown).
 class RuntimeError : public std::runtime_error {
 public:
-    using std::runtime_error::runtime_error;
+    explicit RuntimeError(const std::string& message) : std::runtime_error(without_nul(message)) { }
+    explicit RuntimeError(const char* message) : std::runtime_error(message) { }
 };
 
 }  // namespace woven

@@ -11,6 +11,7 @@
 
 #include "woven/common/error.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/toml_reader.hpp"
 
 namespace woven::io {
 
@@ -179,25 +180,136 @@ std::string scene_glb(const std::vector<GltfMesh>& meshes)
     return out.str();
 }
 
+namespace {
+
+/// One accessor's elements as a viewer reads them, each component as a double; InputError
+/// naming `what` when the accessor, its buffer view or its buffer do not hold them.
+std::vector<double> accessor_values(const tinygltf::Model& m, int index, const std::string& source, const std::string& what,
+                                    int* components_out)
+{
+    const auto fail = [&](const std::string& why) { throw InputError(source, "glb", what + ": " + why); };
+    if (index < 0 || index >= static_cast<int>(m.accessors.size())) fail("no such accessor " + std::to_string(index));
+    const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
+    if (a.sparse.isSparse) fail("a sparse accessor (expected plain data)");
+    const int components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+    const int size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+    if (components <= 0 || components > 16 || size <= 0) fail("an unknown accessor type or component type");
+    if (a.count == 0 || a.count > (1u << 30)) fail("expected 1 .. 2^30 elements, got " + std::to_string(a.count));
+    if (a.bufferView < 0 || a.bufferView >= static_cast<int>(m.bufferViews.size())) fail("no buffer view");
+    const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    if (v.buffer < 0 || v.buffer >= static_cast<int>(m.buffers.size())) fail("its buffer view names no buffer");
+    const std::vector<unsigned char>& b = m.buffers[static_cast<std::size_t>(v.buffer)].data;
+    if (v.byteOffset > b.size() || v.byteLength > b.size() - v.byteOffset)
+        fail("its buffer view (" + std::to_string(v.byteOffset) + " + " + std::to_string(v.byteLength) + " bytes) runs past its buffer (" +
+             std::to_string(b.size()) + " bytes)");
+    const std::size_t element = static_cast<std::size_t>(components) * static_cast<std::size_t>(size);
+    const std::size_t stride = v.byteStride == 0 ? element : v.byteStride;
+    if (stride < element) fail("a stride smaller than an element");
+    if (a.byteOffset > v.byteLength || (a.count - 1) > (v.byteLength - a.byteOffset) / stride ||
+        a.byteOffset + (a.count - 1) * stride + element > v.byteLength)
+        fail(std::to_string(a.count) + " elements run past the buffer view (" + std::to_string(v.byteLength) + " bytes)");
+    if (a.byteOffset % static_cast<std::size_t>(size) != 0 || (v.byteOffset % static_cast<std::size_t>(size)) != 0)
+        fail("data not aligned to its component size");
+    std::vector<double> out;
+    out.reserve(a.count * static_cast<std::size_t>(components));
+    const unsigned char* base = b.data() + v.byteOffset + a.byteOffset;
+    for (std::size_t e = 0; e < a.count; ++e)
+        for (int c = 0; c < components; ++c) {
+            const unsigned char* p = base + e * stride + static_cast<std::size_t>(c) * static_cast<std::size_t>(size);
+            double x = 0;
+            switch (a.componentType) {
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); x = f; break; }
+            case TINYGLTF_COMPONENT_TYPE_DOUBLE: { double d; std::memcpy(&d, p, 8); x = d; break; }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t u; std::memcpy(&u, p, 4); x = u; break; }
+            case TINYGLTF_COMPONENT_TYPE_INT: { int32_t i; std::memcpy(&i, p, 4); x = i; break; }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t u; std::memcpy(&u, p, 2); x = u; break; }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t i; std::memcpy(&i, p, 2); x = i; break; }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: x = *p; break;
+            case TINYGLTF_COMPONENT_TYPE_BYTE: x = static_cast<signed char>(*p); break;
+            default: fail("an unknown component type");
+            }
+            out.push_back(x);
+        }
+    *components_out = components;
+    return out;
+}
+
+}  // namespace
+
 int check_glb(std::string_view data, const std::string& source)
 {
     tinygltf::Model m;
     tinygltf::TinyGLTF loader;
     std::string err, warn;
+    if (data.size() > std::numeric_limits<unsigned int>::max())
+        throw InputError(source, "glb", "expected a glTF 2.0 binary of less than 4 GiB");
     if (!loader.LoadBinaryFromMemory(&m, &err, &warn, reinterpret_cast<const unsigned char*>(data.data()),
                                      static_cast<unsigned int>(data.size())))
-        throw InputError(source, "glb", "does not load as glTF 2.0 binary (" + (err.empty() ? std::string("tinygltf") : err) + ")");
+        // tinygltf's message may span lines (a JSON parse error quotes the parser's): one line.
+        throw InputError(source, "glb", "does not load as glTF 2.0 binary (" + printable(err.empty() ? std::string("tinygltf") : err, 200) + ")");
     if (m.meshes.empty()) throw InputError(source, "glb", "has no mesh");
-    for (const auto& mesh : m.meshes)
-        for (const auto& prim : mesh.primitives) {
+    // What a viewer reads of each primitive: every accessor within its buffer view and buffer,
+    // positions finite and within the accessor's bounds, every other float attribute finite,
+    // the attributes of one length, every index naming a vertex, whole triangles.
+    for (const auto& mesh : m.meshes) {
+        const std::string name = "mesh '" + printable(mesh.name) + "'";
+        if (mesh.primitives.empty()) throw InputError(source, "glb", name + ": has no primitive");
+        for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
+            const auto& prim = mesh.primitives[k];
+            const std::string pname = name + " primitive " + std::to_string(k);
             const auto it = prim.attributes.find("POSITION");
             if (it == prim.attributes.end() || it->second < 0 || it->second >= static_cast<int>(m.accessors.size()))
-                throw InputError(source, "glb", "mesh '" + mesh.name + "' has no POSITION");
-            const auto& a = m.accessors[it->second];
+                throw InputError(source, "glb", "mesh '" + printable(mesh.name) + "' has no POSITION");
+            const auto& a = m.accessors[static_cast<std::size_t>(it->second)];
             bool finite = a.minValues.size() == 3 && a.maxValues.size() == 3;
             for (std::size_t c = 0; finite && c < 3; ++c) finite = std::isfinite(a.minValues[c]) && std::isfinite(a.maxValues[c]);
-            if (!finite) throw InputError(source, "glb", "mesh '" + mesh.name + "': POSITION bounds missing or not finite");
+            if (!finite) throw InputError(source, "glb", "mesh '" + printable(mesh.name) + "': POSITION bounds missing or not finite");
+            if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+                throw InputError(source, "glb", pname + ": POSITION: expected 3 floats per vertex");
+            std::size_t vertices = a.count;
+            for (const auto& [attr, index] : prim.attributes) {
+                int components = 0;
+                const std::vector<double> x = accessor_values(m, index, source, pname + ": " + printable(attr), &components);
+                if (m.accessors[static_cast<std::size_t>(index)].count != vertices)
+                    throw InputError(source, "glb", pname + ": " + printable(attr) + ": " +
+                                                        std::to_string(m.accessors[static_cast<std::size_t>(index)].count) +
+                                                        " elements, POSITION has " + std::to_string(vertices));
+                for (std::size_t i = 0; i < x.size(); ++i) {
+                    if (!std::isfinite(x[i]))
+                        throw InputError(source, "glb", pname + ": " + printable(attr) + ": element " + std::to_string(i / components) +
+                                                            " is not a finite number");
+                    if (attr == "POSITION") {
+                        const std::size_t c = i % 3;
+                        const double tol = 1e-6 * std::max({1.0, std::abs(a.minValues[c]), std::abs(a.maxValues[c])});
+                        if (x[i] < a.minValues[c] - tol || x[i] > a.maxValues[c] + tol)
+                            throw InputError(source, "glb", pname + ": POSITION: vertex " + std::to_string(i / 3) +
+                                                                " lies outside the accessor's min/max");
+                    }
+                }
+            }
+            const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+            if (mode != TINYGLTF_MODE_TRIANGLES) throw InputError(source, "glb", pname + ": expected triangles (mode 4), got mode " + std::to_string(mode));
+            if (prim.indices >= 0) {
+                if (static_cast<std::size_t>(prim.indices) >= m.accessors.size())
+                    throw InputError(source, "glb", pname + ": indices: no such accessor");
+                const auto& ia = m.accessors[static_cast<std::size_t>(prim.indices)];
+                if (ia.type != TINYGLTF_TYPE_SCALAR ||
+                    (ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT && ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                     ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE))
+                    throw InputError(source, "glb", pname + ": indices: expected unsigned integers");
+                int components = 0;
+                const std::vector<double> idx = accessor_values(m, prim.indices, source, pname + ": indices", &components);
+                if (idx.size() % 3 != 0) throw InputError(source, "glb", pname + ": indices: " + std::to_string(idx.size()) + " indices, not whole triangles");
+                for (std::size_t i = 0; i < idx.size(); ++i)
+                    if (idx[i] >= static_cast<double>(vertices))
+                        throw InputError(source, "glb", pname + ": indices: index " + std::to_string(i) + " is " +
+                                                            std::to_string(static_cast<unsigned long long>(idx[i])) + ", beyond the " +
+                                                            std::to_string(vertices) + " vertices");
+            } else if (vertices % 3 != 0) {
+                throw InputError(source, "glb", pname + ": " + std::to_string(vertices) + " vertices without indices, not whole triangles");
+            }
         }
+    }
     return static_cast<int>(m.meshes.size());
 }
 

@@ -5,16 +5,22 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/file.h>
 #include <unistd.h>
 
 #include "woven/common/error.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_file.hpp"
 #include "woven/io/sha256.hpp"
 
 namespace woven::io {
@@ -28,37 +34,92 @@ std::atomic<long> g_temp_counter{0};
 
 std::string path_in(const std::string& dir, const std::string& name) { return (fs::path(dir) / name).string(); }
 
-std::string read_file(const std::string& path)
+/// The folders this process holds open (hold_output_dir), by the path given.
+std::mutex g_held_mutex;
+std::map<std::string, int>& held_dirs()
 {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw RuntimeError(path + ": cannot read back the file written: " + std::strerror(errno));
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+    static std::map<std::string, int> held;
+    return held;
 }
 
-/// Writes `contents` to `path` (a fresh temporary name), RuntimeError on any failure.
-void write_all(const std::string& path, std::string_view contents, const std::string& shown)
+/// The folder `dir`: the descriptor held for it (taken: the next run in this process holds the
+/// path afresh), else the folder opened now.
+int open_dir(const std::string& dir)
 {
-    std::FILE* f = std::fopen(path.c_str(), "wbx");
-    if (!f) throw RuntimeError(shown + ": cannot write: " + std::strerror(errno));
-    const std::size_t n = std::fwrite(contents.data(), 1, contents.size(), f);
-    const int e = errno;
-    const bool ok = n == contents.size() && std::fflush(f) == 0;
-    const int e2 = errno;
-    if (std::fclose(f) != 0 || !ok) {
-        std::remove(path.c_str());
-        throw RuntimeError(shown + ": write failed: " + std::strerror(n != contents.size() ? e : e2));
+    {
+        const std::lock_guard<std::mutex> lock(g_held_mutex);
+        if (const auto it = held_dirs().find(dir); it != held_dirs().end()) {
+            const int fd = it->second;
+            held_dirs().erase(it);
+            return fd;
+        }
+    }
+    return ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+}
+
+/// "/proc/self/fd/<fd>": the held folder as a path that a swapped symlink does not redirect
+/// (for writers that take a path); `dir` itself where /proc is not mounted.
+std::string fd_path(int fd, const std::string& dir)
+{
+    static const bool proc = ::access("/proc/self/fd", X_OK) == 0;
+    return proc ? "/proc/self/fd/" + std::to_string(fd) : dir;
+}
+
+/// The whole of the regular file `name` in the folder `dirfd` (not followed if a symlink), at
+/// most `limit` bytes; nullopt when it is not there or not such a file.
+std::optional<std::string> read_at(int dirfd, const std::string& name, std::size_t limit)
+{
+    const int fd = ::openat(dirfd, name.c_str(), O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) return std::nullopt;
+    struct stat st {};
+    std::optional<std::string> out;
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && static_cast<std::size_t>(st.st_size) <= limit) {
+        std::string text;
+        char buf[65536];
+        for (;;) {
+            const ssize_t r = ::read(fd, buf, sizeof buf);
+            if (r < 0 && errno == EINTR) continue;
+            if (r <= 0 || text.size() + static_cast<std::size_t>(r) > limit) {
+                if (r == 0) out = std::move(text);
+                break;
+            }
+            text.append(buf, static_cast<std::size_t>(r));
+        }
+    }
+    ::close(fd);
+    return out;
+}
+
+/// Writes `contents` to the new file `name` in the folder `dirfd`, RuntimeError on any failure.
+void write_all(int dirfd, const std::string& name, std::string_view contents, const std::string& shown)
+{
+    const int fd = ::openat(dirfd, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0) throw RuntimeError(shown + ": cannot write: " + std::strerror(errno));
+    std::size_t n = 0;
+    int e = 0;
+    while (n < contents.size()) {
+        const ssize_t w = ::write(fd, contents.data() + n, contents.size() - n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) {
+            e = w < 0 ? errno : EIO;
+            break;
+        }
+        n += static_cast<std::size_t>(w);
+    }
+    if (::close(fd) != 0 && e == 0) e = errno;
+    if (e != 0) {
+        ::unlinkat(dirfd, name.c_str(), 0);
+        throw RuntimeError(shown + ": write failed: " + std::strerror(e));
     }
 }
 
 /// An exclusive flock on the directory itself for the scope (Linux locks directories too, so
-/// no lock file is left behind).
+/// no lock file is left behind), on a description of its own (a dup would share the lock).
 class DirLock {
 public:
-    explicit DirLock(const std::string& dir)
+    DirLock(int dirfd, const std::string& dir)
     {
-        fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        fd_ = ::openat(dirfd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
         if (fd_ < 0) throw RuntimeError(dir + ": cannot open the output directory: " + std::strerror(errno));
         while (::flock(fd_, LOCK_EX) != 0)
             if (errno != EINTR) throw RuntimeError(dir + ": cannot lock the output directory: " + std::strerror(errno));
@@ -70,6 +131,26 @@ public:
 private:
     int fd_ = -1;
 };
+
+/// The files the manifest `name` in `dirfd` lists (its "files" object's keys, or a list of names).
+std::set<std::string> listed_files(int dirfd, const std::string& name, const std::string& shown)
+{
+    std::set<std::string> out;
+    const auto text = read_at(dirfd, name, kMaxManifestBytes);
+    if (!text) return out;
+    try {
+        const nlohmann::json j = parse_output_json(*text, shown, "a manifest");
+        if (!j.is_object() || !j.contains("files")) return out;
+        const auto& f = j["files"];
+        if (f.is_object())
+            for (auto it = f.begin(); it != f.end(); ++it) out.insert(it.key());
+        if (f.is_array())
+            for (const auto& n : f)
+                if (n.is_string()) out.insert(n.get<std::string>());
+    } catch (const InputError&) {
+    }
+    return out;
+}
 
 /// SIGINT, SIGTERM and SIGHUP wait while a set is published: for the scope a handler only
 /// records them; at its end the previous handlers are restored and a recorded signal is raised
@@ -108,12 +189,22 @@ private:
 
 }  // namespace
 
-int remove_stale_temporaries(const std::string& dir)
+namespace {
+
+int remove_stale_temporaries_at(int dirfd)
 {
     int removed = 0;
-    std::error_code ec;
-    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-        const std::string name = it->path().filename().string();
+    const int fd = ::openat(dirfd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    DIR* d = ::fdopendir(fd);
+    if (!d) {
+        ::close(fd);
+        return 0;
+    }
+    std::vector<std::string> names;
+    while (const dirent* e = ::readdir(d)) names.emplace_back(e->d_name);
+    ::closedir(d);
+    for (const auto& name : names) {
         if (name.rfind(kTempPrefix, 0) != 0) continue;
         // ".woven-tmp.<pid>.<n>.<name>": stale when no process <pid> runs.
         const std::string rest = name.substr(kTempPrefix.size());
@@ -121,31 +212,59 @@ int remove_stale_temporaries(const std::string& dir)
         const long pid = std::strtol(rest.c_str(), &end_ptr, 10);
         if (end_ptr == rest.c_str() || *end_ptr != '.' || pid <= 0) continue;
         if (pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
-        std::error_code rm;
-        if (fs::remove(it->path(), rm)) ++removed;
+        if (::unlinkat(dirfd, name.c_str(), 0) == 0) ++removed;
     }
     return removed;
 }
 
+}  // namespace
+
+int remove_stale_temporaries(const std::string& dir)
+{
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    const int removed = remove_stale_temporaries_at(fd);
+    ::close(fd);
+    return removed;
+}
+
+void hold_output_dir(const std::string& dir)
+{
+    const std::lock_guard<std::mutex> lock(g_held_mutex);
+    if (const auto it = held_dirs().find(dir); it != held_dirs().end()) {
+        // Held already (a command checks --out again before it publishes): kept, unless that
+        // folder has been deleted since (a run that failed before its set, then the folder removed).
+        struct stat st {};
+        if (::fstat(it->second, &st) == 0 && st.st_nlink > 0) return;
+        ::close(it->second);
+        held_dirs().erase(it);
+    }
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) throw RuntimeError(dir + ": cannot open the output directory: " + std::strerror(errno));
+    held_dirs()[dir] = fd;
+}
+
 OutputSet::OutputSet(std::string dir, std::vector<std::string> members) : dir_(std::move(dir)), members_(std::move(members))
 {
-    remove_stale_temporaries(dir_);
+    dirfd_ = open_dir(dir_);
+    if (dirfd_ < 0) throw RuntimeError(dir_ + ": cannot open the output directory: " + std::strerror(errno));
+    remove_stale_temporaries_at(dirfd_);
 }
 
 OutputSet::~OutputSet()
 {
     for (const auto& t : temps_) {
-        std::remove(t.c_str());
-        std::remove((t + ".tmp").c_str());  // render::write_png's own temporary
+        ::unlinkat(dirfd_, t.c_str(), 0);
+        ::unlinkat(dirfd_, (t + ".tmp").c_str(), 0);  // render::write_png's own temporary
     }
+    ::close(dirfd_);
 }
 
 std::string OutputSet::temp_path(const std::string& name)
 {
-    const std::string t = path_in(dir_, std::string(kTempPrefix) + std::to_string(::getpid()) + "." +
-                                            std::to_string(g_temp_counter++) + "." + name);
+    const std::string t = std::string(kTempPrefix) + std::to_string(::getpid()) + "." + std::to_string(g_temp_counter++) + "." + name;
     temps_.push_back(t);
-    return t;
+    return path_in(fd_path(dirfd_, dir_), t);
 }
 
 void OutputSet::added(const std::string& name)
@@ -153,16 +272,18 @@ void OutputSet::added(const std::string& name)
     File f;
     f.name = name;
     f.temp = temps_.back();
-    const std::string data = read_file(f.temp);
-    f.bytes = data.size();
-    f.sha256 = sha256_hex(data);
+    const auto data = read_at(dirfd_, f.temp, std::numeric_limits<std::size_t>::max());
+    if (!data) throw RuntimeError(path_in(dir_, name) + ": cannot read back the file written");
+    f.bytes = data->size();
+    f.sha256 = sha256_hex(*data);
     files_.push_back(std::move(f));
 }
 
 void OutputSet::add(const std::string& name, std::string_view contents)
 {
-    const std::string t = temp_path(name);
-    write_all(t, contents, path_in(dir_, name));
+    std::string t = std::string(kTempPrefix) + std::to_string(::getpid()) + "." + std::to_string(g_temp_counter++) + "." + name;
+    temps_.push_back(t);
+    write_all(dirfd_, t, contents, path_in(dir_, name));
     File f;
     f.name = name;
     f.temp = t;
@@ -187,27 +308,31 @@ std::vector<std::string> OutputSet::names() const
 
 void OutputSet::publish(const std::string& manifest_name, std::string_view manifest_contents)
 {
-    const std::string manifest_temp = temp_path(manifest_name);
-    write_all(manifest_temp, manifest_contents, path_in(dir_, manifest_name));
+    const std::string manifest_temp = std::string(kTempPrefix) + std::to_string(::getpid()) + "." +
+                                      std::to_string(g_temp_counter++) + "." + manifest_name;
+    temps_.push_back(manifest_temp);
+    write_all(dirfd_, manifest_temp, manifest_contents, path_in(dir_, manifest_name));
     const DeferSignals defer;  // declared before the lock: a deferred signal is raised after it is released
-    const DirLock lock(dir_);
+    const DirLock lock(dirfd_, dir_);
     // Nothing that is in the way may be a directory (or anything but a file): check first, so
     // that a failure leaves the previous set as it was.
     std::vector<std::string> targets = members_;
     targets.push_back(manifest_name);
     for (const auto& f : files_) targets.push_back(f.name);
     for (const auto& name : targets) {
-        std::error_code ec;
-        const auto st = fs::symlink_status(path_in(dir_, name), ec);
-        if (!ec && fs::exists(st) && !fs::is_regular_file(st))
+        struct stat st {};
+        if (::fstatat(dirfd_, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && !S_ISREG(st.st_mode))
             throw RuntimeError(path_in(dir_, name) + ": exists and is not a regular file; the outputs were not written");
     }
+    // Only the files the previous set's manifest lists are its (a file of the user's own with a
+    // member's name stays).
+    const std::set<std::string> earlier = listed_files(dirfd_, manifest_name, path_in(dir_, manifest_name));
     const std::string manifest = path_in(dir_, manifest_name);
-    if (std::remove(manifest.c_str()) != 0 && errno != ENOENT)
+    if (::unlinkat(dirfd_, manifest_name.c_str(), 0) != 0 && errno != ENOENT)
         throw RuntimeError(manifest + ": cannot remove the previous manifest: " + std::strerror(errno));
     for (const auto& f : files_) {
         const std::string to = path_in(dir_, f.name);
-        if (std::rename(f.temp.c_str(), to.c_str()) != 0)
+        if (::renameat(dirfd_, f.temp.c_str(), dirfd_, f.name.c_str()) != 0)
             throw RuntimeError(to + ": cannot move into place: " + std::strerror(errno) + " (the set is incomplete: no " +
                                manifest_name + ")");
         std::erase(temps_, f.temp);
@@ -215,9 +340,9 @@ void OutputSet::publish(const std::string& manifest_name, std::string_view manif
     for (const auto& m : members_) {
         bool written = false;
         for (const auto& f : files_) written = written || f.name == m;
-        if (!written) std::remove(path_in(dir_, m).c_str());  // an earlier run's file, not of this set
+        if (!written && earlier.count(m)) ::unlinkat(dirfd_, m.c_str(), 0);  // the earlier set's file, not of this set
     }
-    if (std::rename(manifest_temp.c_str(), manifest.c_str()) != 0)
+    if (::renameat(dirfd_, manifest_temp.c_str(), dirfd_, manifest_name.c_str()) != 0)
         throw RuntimeError(manifest + ": cannot move into place: " + std::strerror(errno));
     std::erase(temps_, manifest_temp);
     published_ = true;

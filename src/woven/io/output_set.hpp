@@ -26,10 +26,17 @@ inline constexpr std::string_view kTempPrefix = ".woven-tmp.";
 /// how many entries were removed.
 int remove_stale_temporaries(const std::string& dir);
 
+/// Opens `dir` and holds it until an OutputSet is made for `dir` (the same string): that set
+/// writes into the folder held even if the path has been replaced meanwhile (a symlink swapped
+/// in while a run works does not redirect its outputs). Held already: kept (unless deleted).
+/// RuntimeError when it cannot be opened.
+void hold_output_dir(const std::string& dir);
+
 class OutputSet {
 public:
     /// `dir` must exist. `members`: every file name the set can hold (besides the manifest);
-    /// those this run does not write are removed at publish. Removes stale temporaries.
+    /// those this run does not write are removed at publish when the earlier set's manifest
+    /// lists them. Removes stale temporaries.
     OutputSet(std::string dir, std::vector<std::string> members);
     OutputSet(const OutputSet&) = delete;
     OutputSet& operator=(const OutputSet&) = delete;
@@ -60,6 +67,7 @@ private:
         std::string sha256;
     };
     std::string dir_;
+    int dirfd_ = -1;  ///< the folder, held open: every file is written, renamed and removed through it
     std::vector<std::string> members_;
     std::vector<File> files_;
     std::vector<std::string> temps_;  ///< temporaries that exist and are not yet renamed

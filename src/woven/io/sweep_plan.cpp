@@ -13,6 +13,7 @@
 
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
+#include "woven/io/input_file.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/io/scene_obstacles.hpp"
 #include "woven/io/toml_reader.hpp"
@@ -68,9 +69,13 @@ const std::vector<KeySpec>& key_specs()
 
 bool takes(const KeySpec& s, const std::string& command)
 {
-    std::istringstream in(s.commands);
-    for (std::string c; in >> c;)
-        if (c == command) return true;
+    // Called per value and per point (a million of each): no stream.
+    for (std::string_view c = s.commands; !c.empty();) {
+        const std::size_t space = c.find(' ');
+        if (c.substr(0, space) == command) return true;
+        if (space == std::string_view::npos) break;
+        c.remove_prefix(space + 1);
+    }
     return false;
 }
 
@@ -122,6 +127,15 @@ std::string toml_literal(const toml::node& n)
         for (std::size_t k = 0; k < a->size(); ++k) out += (k == 0 ? "" : ", ") + toml_literal(*a->get(k));
         return out + "]";
     }
+    if (const auto* t = n.as_table()) {  // an inline table (in an array of tables): {key = value, ...}
+        std::string out = "{";
+        bool first = true;
+        for (const auto& [k, v] : *t) {
+            out += (first ? "" : ", ") + toml_literal(toml::value<std::string>(std::string(k.str()))) + " = " + toml_literal(v);
+            first = false;
+        }
+        return out + "}";
+    }
     if (const auto* s = n.as_string()) {
         std::string out = "\"";
         for (const char c : s->get()) {
@@ -153,7 +167,8 @@ SweepValue read_value(const TomlTable& t, const toml::node& n, const std::string
             t.fail_at(field, "expected a number, a string, a boolean or an array for a " + key.substr(0, key.find('.')) + " key" +
                                  TomlReader::at(n));
         if (n.is_floating_point() && !std::isfinite(n.as_floating_point()->get())) t.fail_at(field, "expected a finite number" + TomlReader::at(n));
-        v.text = toml_literal(n);
+        // -0.0 is the value 0.0 (one point, not two).
+        v.text = n.is_floating_point() && n.as_floating_point()->get() == 0 ? std::string("0.0") : toml_literal(n);
         v.number = n.is_integer() || n.is_floating_point();
         if (const auto* s = n.as_string()) {
             v.label = s->get();
@@ -174,7 +189,7 @@ SweepValue read_value(const TomlTable& t, const toml::node& n, const std::string
         break;
     }
     case Kind::NUMBER: {
-        const double x = t.to_number(n, field, Range{spec->lo, spec->hi, spec->lo_open, ""});
+        const double x = t.to_number(n, field, Range{spec->lo, spec->hi, spec->lo_open, ""}) + 0.0;  // -0.0 is 0.0
         v.text = v.label = num_str(x);
         v.number = true;
         break;
@@ -210,6 +225,17 @@ SweepValue read_value(const TomlTable& t, const toml::node& n, const std::string
                                  TomlReader::at(n));
         v.text = fs::absolute(p).lexically_normal().string();  // the same command line from any folder
         v.label = stem_label(name);
+        // Read now with the commands' own readers (once per file): a file that is not a fabric
+        // or a scene is bad input before any point runs, not a point failing later.
+        try {
+            std::vector<std::string> ignored;
+            if (fabric)
+                (void)load_fabric_file(v.text, &ignored);
+            else
+                (void)load_scene(v.text, &ignored);
+        } catch (const InputError& e) {
+            t.fail_at(field, "expected " + what + ", got '" + printable(name) + "': " + e.what() + TomlReader::at(n));
+        }
         break;
     }
     }
@@ -278,58 +304,123 @@ std::size_t SweepPlan::size() const
     return n;
 }
 
+namespace {
+
+/// The value of each axis at point `index` (the last axis varies fastest).
+std::vector<std::size_t> picks(const SweepPlan& plan, std::size_t index)
+{
+    std::vector<std::size_t> pick(plan.axes.size());
+    for (std::size_t a = plan.axes.size(); a-- > 0;) {
+        pick[a] = index % plan.axes[a].values.size();
+        index /= plan.axes[a].values.size();
+    }
+    return pick;
+}
+
+/// The folder name of point `index`.
+std::string point_name(const SweepPlan& plan, std::size_t index, const std::vector<std::size_t>& pick)
+{
+    std::string name;
+    for (std::size_t a = 0; a < plan.axes.size(); ++a)
+        name += (a == 0 ? "" : "_") + folder_safe(plan.axes[a].key) + "-" + folder_safe(plan.axes[a].values[pick[a]].label);
+    if (name.empty()) name = "point";
+    if (name.size() > 200) name = name.substr(0, 180) + "-p" + std::to_string(index + 1);
+    return name;
+}
+
+}  // namespace
+
+SweepPoint SweepPlan::point(std::size_t index) const
+{
+    SweepPoint p;
+    p.index = index;
+    const std::vector<std::size_t> pick = picks(*this, index);
+    for (std::size_t a = 0; a < axes.size(); ++a) p.values.push_back(axes[a].values[pick[a]]);
+    p.name = point_name(*this, index, pick);
+    // The command line: the command, its positional argument, then the options in the key
+    // table's order (the same line for the same point whatever the plan's key order).
+    std::vector<SweepValue> all = fixed;
+    for (const auto& v : p.values) {
+        std::erase_if(all, [&](const SweepValue& f) { return f.key == v.key; });
+        all.push_back(v);
+    }
+    p.args.push_back(command);
+    const std::string positional = command == "drape" ? "scene" : "fabric";
+    bool have_positional = false;
+    for (const auto& v : all)
+        if (v.key == positional) {
+            p.args.push_back(v.text);
+            have_positional = true;
+        }
+    if (!have_positional) p.args.push_back("cube");  // drape's default scene (parse checked the others)
+    for (const auto& s : key_specs()) {
+        if (!takes(s, command) || std::string(s.option).empty()) continue;
+        for (const auto& v : all)
+            if (v.key == s.key) {
+                p.args.push_back(s.option);
+                p.args.push_back(v.text);
+            }
+    }
+    if (!render) p.args.push_back("--no-render");
+    for (const auto& v : all) {
+        if (v.key.rfind("scene.", 0) == 0) p.scene_overrides.push_back(SweepValue{v.key.substr(6), v.text, v.label, v.number});
+        if (v.key.rfind("fabric.", 0) == 0) p.fabric_overrides.push_back(SweepValue{v.key.substr(7), v.text, v.label, v.number});
+    }
+    return p;
+}
+
 std::vector<SweepPoint> SweepPlan::points() const
 {
     const std::size_t count = size();
     std::vector<SweepPoint> out;
     out.reserve(count);
-    for (std::size_t index = 0; index < count; ++index) {
-        SweepPoint p;
-        p.index = index;
-        std::size_t rest = index;
-        std::vector<std::size_t> pick(axes.size());
-        for (std::size_t a = axes.size(); a-- > 0;) {
-            pick[a] = rest % axes[a].values.size();
-            rest /= axes[a].values.size();
-        }
-        for (std::size_t a = 0; a < axes.size(); ++a) p.values.push_back(axes[a].values[pick[a]]);
-        for (std::size_t a = 0; a < axes.size(); ++a)
-            p.name += (a == 0 ? "" : "_") + folder_safe(axes[a].key) + "-" + folder_safe(p.values[a].label);
-        if (p.name.empty()) p.name = "point";
-        if (p.name.size() > 200) p.name = p.name.substr(0, 180) + "-p" + std::to_string(index + 1);
-        // The command line: the command, its positional argument, then the options in the key
-        // table's order (the same line for the same point whatever the plan's key order).
-        std::vector<SweepValue> all = fixed;
-        for (const auto& v : p.values) {
-            std::erase_if(all, [&](const SweepValue& f) { return f.key == v.key; });
-            all.push_back(v);
-        }
-        p.args.push_back(command);
-        const std::string positional = command == "drape" ? "scene" : "fabric";
-        bool have_positional = false;
-        for (const auto& v : all)
-            if (v.key == positional) {
-                p.args.push_back(v.text);
-                have_positional = true;
-            }
-        if (!have_positional) p.args.push_back("cube");  // drape's default scene (parse checked the others)
-        for (const auto& s : key_specs()) {
-            if (!takes(s, command) || std::string(s.option).empty()) continue;
-            for (const auto& v : all)
-                if (v.key == s.key) {
-                    p.args.push_back(s.option);
-                    p.args.push_back(v.text);
-                }
-        }
-        if (!render) p.args.push_back("--no-render");
-        for (const auto& v : all) {
-            if (v.key.rfind("scene.", 0) == 0) p.scene_overrides.push_back(SweepValue{v.key.substr(6), v.text, v.label, v.number});
-            if (v.key.rfind("fabric.", 0) == 0) p.fabric_overrides.push_back(SweepValue{v.key.substr(7), v.text, v.label, v.number});
-        }
-        out.push_back(std::move(p));
-    }
+    for (std::size_t index = 0; index < count; ++index) out.push_back(point(index));
     return out;
 }
+
+namespace {
+
+/// The number of values of an axis, from its array's length or {from, to, step}, before any
+/// value is read (a plan of 10^12 points is refused at once). 1 where read_axis will refuse it.
+double axis_count(const TomlTable& axes, const std::string& key)
+{
+    const toml::node* n = axes.node(key);
+    if (const auto* a = n->as_array()) return static_cast<double>(a->size());
+    if (n->is_table()) {
+        const auto t = axes.table(key);
+        const Range any{-1e300, 1e300, false, ""};
+        const double from = t->number("from", any, std::nullopt);
+        const double to = t->number("to", any, std::nullopt);
+        const double step = t->number("step", Range{0, 1e300, true, ""}, 1.0);
+        if (to < from) return 1;
+        return std::floor((to - from) / step + 1e-9) + 1;
+    }
+    return 1;
+}
+
+/// Two points with one folder name (two fabric files with one stem, say) would share a folder:
+/// the names' hashes sorted, and the names of equal hashes compared (no name kept: a million
+/// points take 16 MB).
+void check_unique_names(const SweepPlan& plan, const TomlReader& reader)
+{
+    const std::size_t count = plan.size();
+    std::vector<std::pair<std::size_t, std::size_t>> hashes(count);
+    for (std::size_t i = 0; i < count; ++i) hashes[i] = {std::hash<std::string>{}(point_name(plan, i, picks(plan, i))), i};
+    std::sort(hashes.begin(), hashes.end());
+    for (std::size_t k = 1; k < count; ++k) {
+        if (hashes[k].first != hashes[k - 1].first) continue;
+        // Equal hashes: compare with every earlier name of this hash.
+        for (std::size_t j = k; j-- > 0 && hashes[j].first == hashes[k].first;) {
+            const std::size_t a = std::min(hashes[j].second, hashes[k].second), b = std::max(hashes[j].second, hashes[k].second);
+            const std::string name = point_name(plan, a, picks(plan, a));
+            if (name == point_name(plan, b, picks(plan, b)))
+                reader.fail("axes", "points " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " get the same folder name '" +
+                                        name + "'; give the files different names");
+        }
+    }
+}
+
+}  // namespace
 
 SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, const std::string& base_dir,
                            std::vector<std::string>* warnings)
@@ -358,10 +449,14 @@ SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, con
         }
     }
     if (const auto a = r.table("axes")) {
+        double count = 1;
         for (const auto& key : a->keys()) {
             if (key == "render") a->fail(key, "render is an [options] key, not an axis");
-            plan.axes.push_back(read_axis(*a, key, plan.command, base_dir));
+            count *= axis_count(*a, key);
         }
+        if (count > static_cast<double>(kMaxSweepPoints))
+            reader.fail("axes", "expected at most " + std::to_string(kMaxSweepPoints) + " points, got " + num_str(count));
+        for (const auto& key : a->keys()) plan.axes.push_back(read_axis(*a, key, plan.command, base_dir));
     }
     const bool has_fabric = [&] {
         for (const auto& v : plan.fixed)
@@ -378,39 +473,24 @@ SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, con
         reader.fail("axes", "expected at most " + std::to_string(kMaxSweepPoints) + " points, got " + num_str(count));
     if (warnings)
         for (auto& w : reader.unknown_keys()) warnings->push_back(std::move(w));
-    // Two points with one folder name (two fabric files with one stem, say) would share a folder.
-    std::map<std::string, std::size_t> names;
-    for (const auto& p : plan.points()) {
-        const auto [it, fresh] = names.emplace(p.name, p.index);
-        if (!fresh)
-            reader.fail("axes", "points " + std::to_string(it->second + 1) + " and " + std::to_string(p.index + 1) +
-                                    " get the same folder name '" + p.name + "'; give the files different names");
-    }
+    check_unique_names(plan, reader);
     return plan;
 }
 
 SweepPlan load_sweep_plan(const std::string& path, std::vector<std::string>* warnings)
 {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw InputError(path, "file", "no such plan file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, "file", "cannot read the plan file");
-    std::ostringstream text;
-    text << in.rdbuf();
+    // Regular files only, bounded (a FIFO or /dev/zero is refused as such, not "no such file").
+    const std::string text = read_input_file(path, kMaxTomlBytes, {"plan file", "a sweep plan .toml file"});
     std::string base = fs::path(path).parent_path().string();
     if (base.empty()) base = ".";
-    return parse_sweep_plan(text.str(), path, base, warnings);
+    return parse_sweep_plan(text, path, base, warnings);
 }
 
 std::string scene_or_fabric_text(const std::string& name_or_path, const std::string& kind)
 {
     std::error_code ec;
-    if (fs::is_regular_file(name_or_path, ec)) {
-        std::ifstream in(name_or_path, std::ios::binary);
-        std::ostringstream s;
-        s << in.rdbuf();
-        if (!in.bad()) return s.str();
-    }
+    if (fs::exists(name_or_path, ec) && !fs::is_directory(name_or_path, ec))
+        return read_input_file(name_or_path, kMaxTomlBytes, {kind + " file", "a " + kind + " .toml file"});
     const std::string folder = kind == "scene" ? "scenes/" : "fabrics/";
     if (auto d = embedded_file(folder + name_or_path + ".toml")) return std::string(*d);
     throw InputError(name_or_path, "file", "expected a built-in " + kind + " or a readable " + kind + " .toml file");

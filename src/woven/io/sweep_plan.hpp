@@ -50,6 +50,9 @@ struct SweepPlan {
     bool render = true;             ///< false: --no-render
 
     std::size_t size() const;
+    /// Point `index` (< size()), made on demand: a plan of a million points is listed without
+    /// holding them all.
+    SweepPoint point(std::size_t index) const;
     /// Every point, in plan order: the last axis varies fastest.
     std::vector<SweepPoint> points() const;
 };
@@ -58,7 +61,8 @@ struct SweepPlan {
 /// appended to `warnings`.
 SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, const std::string& base_dir,
                            std::vector<std::string>* warnings = nullptr);
-/// Reads a plan file (InputError "<path>: file: no such plan file" when missing).
+/// Reads a plan file (io::read_input_file: "<path>: file: no such plan file" when missing, a FIFO
+/// or a device refused as not a regular file).
 SweepPlan load_sweep_plan(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 /// The TOML text `text` with each override's dotted key set to its value (a number or a

@@ -199,7 +199,7 @@ struct CusickState {
 /// "The search of rest states": why).
 struct CusickSearchOptions {
     bool release = true;     ///< the release from flat is one of the starts
-    std::vector<int> modes;  ///< the guide counts (2 .. 12 for woven cusick --search)
+    std::vector<int> modes;  ///< the guide counts (2 for woven cusick --search)
     std::vector<double> stiffer;  ///< the continuations' bending factors (4 and 16 for woven cusick --search)
     int jobs = 1;            ///< starts run at once (each on options.solver.threads threads)
 };
