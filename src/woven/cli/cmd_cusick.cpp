@@ -442,9 +442,7 @@ void add_cusick_command(CLI::App& app, int& exit_code)
     sub->add_option("--shakes", o->shakes,
                     "After the protocol, this many cycles of a quasi-static vertical shake of the disc (to rest at 1.5 g, at "
                     "0.5 g, in the clamp's frame), then to rest at g (default 0)")->type_name("INT");
-    sub->add_option("--bias", o->bias,
-                    "threads (the paper's: bending along the warp and weft alone) or fabric (and the twisting that gives the "
-                    "fabric's bias bending rigidity, measured or estimated)");
+    sub->add_option("--bias", o->bias, kBiasBendingHelp);
     sub->add_option("--start", o->start, "Start from this cusick.obj (of the same specimen and spacing) instead of the flat start");
     sub->add_flag("--search", o->search,
                   "Search the rest states: the release, one start per guide count (--modes: the overhang first falls onto "

@@ -10,6 +10,7 @@
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/drape_run.hpp"
+#include "woven/cli/material.hpp"
 #include "woven/cli/progress.hpp"
 #include "woven/cli/report.hpp"
 
@@ -83,9 +84,7 @@ void add_drape_command(CLI::App& app, int& exit_code)
                     "loading-branch (each KES curve's loading branch as an elastic energy) or friction (the mean line plus friction "
                     "inside the weave, its slip state updated after each step: the drape remembers its path; fast solver); "
                     "overrides the scene's [model] hysteresis");
-    sub->add_option("--bias", o->bias,
-                    "threads (the paper's: bending along the warp and weft alone) or fabric (and the twisting that gives the "
-                    "fabric's bias bending rigidity, measured or estimated); overrides the scene's [model] bias_bending");
+    sub->add_option("--bias", o->bias, std::string(kBiasBendingHelp) + "; overrides the scene's [model] bias_bending");
     sub->add_option("--start", o->start,
                     "Start from this drape.obj (of the same scene and grid, e.g. an earlier drape's) instead of the scene's "
                     "flat start; its SHA-256 goes into report.json");

@@ -26,6 +26,10 @@ std::string shear_law_text(const model::ModelOptions& options);
 model::ShearLaw parse_shear_law(const std::string& text, const std::string& option);
 /// --hysteresis: loading-branch or friction (the one-line error otherwise).
 model::Hysteresis parse_hysteresis(const std::string& text, const std::string& option);
+/// The help of --bias (drape, cusick).
+inline constexpr const char* kBiasBendingHelp =
+    "threads (the paper's: bending along the warp and weft alone) or fabric (and the twisting that gives the fabric's bias "
+    "bending rigidity, measured or estimated)";
 /// "threads" or "fabric" (model::BiasBending); InputError("command line", option, ...) otherwise.
 model::BiasBending parse_bias_bending(const std::string& text, const std::string& option);
 

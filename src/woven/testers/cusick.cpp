@@ -2,15 +2,16 @@
 
 #include <algorithm>
 #include <atomic>
-#include <limits>
-#include <mutex>
-#include <thread>
 #include <cmath>
+#include <exception>
+#include <limits>
 #include <memory>
+#include <mutex>
 #include <numbers>
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "woven/common/error.hpp"
 #include "woven/geometry/primitives.hpp"
@@ -282,28 +283,38 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
     std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     std::mutex progress_mutex;
+    std::exception_ptr failure;  // the first start's error, rethrown here once every worker has stopped
+    const auto run_start = [&](std::size_t k) {
+        CusickOptions o = options;
+        o.guides = starts[k];
+        out.states[k].start = starts[k];
+        const auto step = [&](const sim::StepInfo& s) {
+            if (stop) return false;
+            if (!progress) return true;
+            const std::lock_guard<std::mutex> lock(progress_mutex);
+            if (!progress(s)) stop = true;
+            return !stop.load();
+        };
+        int stages = 0;
+        if (starts[k].stiffer > 0) {  // the stiffer copy first, the fabric from its rest
+            const CusickResult stiff = run_cusick(stiffer_in_bending(fabric, starts[k].stiffer), o, step);
+            o.start = stiff.drape.x;
+            stages = stiff.stages;
+            if (stiff.drape.interrupted) stop = true;
+        }
+        out.states[k].result = run_cusick(fabric, o, step);
+        out.states[k].result.stages += stages;
+        if (out.states[k].result.drape.interrupted) stop = true;
+    };
     const auto worker = [&] {
         for (std::size_t k = next++; k < starts.size() && !stop; k = next++) {
-            CusickOptions o = options;
-            o.guides = starts[k];
-            out.states[k].start = starts[k];
-            const auto step = [&](const sim::StepInfo& s) {
-                if (stop) return false;
-                if (!progress) return true;
+            try {
+                run_start(k);
+            } catch (...) {
                 const std::lock_guard<std::mutex> lock(progress_mutex);
-                if (!progress(s)) stop = true;
-                return !stop.load();
-            };
-            int stages = 0;
-            if (starts[k].stiffer > 0) {  // the stiffer copy first, the fabric from its rest
-                const CusickResult stiff = run_cusick(stiffer_in_bending(fabric, starts[k].stiffer), o, step);
-                o.start = stiff.drape.x;
-                stages = stiff.stages;
-                if (stiff.drape.interrupted) stop = true;
+                if (!failure) failure = std::current_exception();
+                stop = true;
             }
-            out.states[k].result = run_cusick(fabric, o, step);
-            out.states[k].result.stages += stages;
-            if (out.states[k].result.drape.interrupted) stop = true;
         }
     };
     const int jobs = std::clamp(search.jobs, 1, static_cast<int>(std::max<std::size_t>(starts.size(), 1)));
@@ -311,6 +322,7 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
     for (int t = 1; t < jobs; ++t) pool.emplace_back(worker);
     worker();
     for (auto& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
     out.interrupted = stop;
     double lowest = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < out.states.size(); ++k) {
