@@ -11,6 +11,7 @@
 #include "woven/cli/drape_run.hpp"
 #include "woven/cli/progress.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/sha256.hpp"
 #include "woven/io/values.hpp"
 
 namespace woven::python {
@@ -52,7 +53,8 @@ py::array_t<std::int32_t> faces_array(const DrapeResult& r)
 /// woven.drape's and woven.Drape's scene, fabric and options, checked and built as the command
 /// builds them (cli::prepare_drape). Call with a CallLock held.
 std::shared_ptr<cli::DrapeSetup> setup_drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed,
-                                             py::object threads, py::object max_steps, py::object perturb, py::object hysteresis)
+                                             py::object threads, py::object max_steps, py::object perturb, py::object hysteresis,
+                                             py::object bias = py::none(), py::object initial_positions = py::none())
 {
     cli::DrapeOptions o;
     cli::DrapeInputs in;
@@ -73,6 +75,17 @@ std::shared_ptr<cli::DrapeSetup> setup_drape(py::object scene, py::object fabric
     o.max_steps = option_text(max_steps);
     o.perturb = option_text(perturb);
     o.hysteresis = option_text(hysteresis);
+    o.bias = option_text(bias);
+    if (!initial_positions.is_none()) {  // an (n, 3) array of positions in m
+        const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(initial_positions);
+        if (!a || a.ndim() != 2 || a.shape(1) != 3)
+            throw py::type_error("drape(): initial_positions must be an (n, 3) array of positions in m, n the grid's particles");
+        Positions x(static_cast<std::size_t>(a.shape(0)));
+        const auto v = a.unchecked<2>();
+        for (py::ssize_t k = 0; k < a.shape(0); ++k) x[static_cast<std::size_t>(k)] = Vec3(v(k, 0), v(k, 1), v(k, 2));
+        in.initial_sha256 = io::sha256_hex(std::string_view(reinterpret_cast<const char*>(a.data()), static_cast<std::size_t>(a.nbytes())));
+        in.initial = std::move(x);
+    }
     std::shared_ptr<cli::DrapeSetup> setup;
     run_command([&] {
         if (given_scene) in.scene = given_scene->build(&warnings);
@@ -155,13 +168,14 @@ private:
 };
 
 DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed, py::object threads,
-                  py::object max_steps, py::object perturb, py::object hysteresis, py::object progress)
+                  py::object max_steps, py::object perturb, py::object hysteresis, py::object progress, py::object bias,
+                  py::object initial_positions)
 {
     if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw py::type_error("drape(): progress must be callable or None");
     // 1. Validate and build, as the command (one call at a time: bindings.hpp).
     const CallLock lock;
     DrapeResult r;
-    r.setup = setup_drape(scene, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis);
+    r.setup = setup_drape(scene, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis, bias, initial_positions);
 
     // 2. The solve, without the GIL.
     const cli::DrapeSetup& setup = *r.setup;
@@ -372,20 +386,23 @@ the cloth is kept out of obstacles, not pushed out of them.)")
     m.def("drape", &drape, py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(), py::arg("grid") = py::none(),
           py::arg("solver") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = py::none(),
           py::arg("max_steps") = py::none(), py::arg("perturb") = py::none(), py::arg("hysteresis") = py::none(),
-          py::arg("progress") = py::none(),
+          py::arg("progress") = py::none(), py::arg("bias") = py::none(), py::arg("initial_positions") = py::none(),
           R"(Drapes a cloth over a scene's obstacles to static equilibrium, as `woven drape` does.
 
 scene: a built-in scene name, a scene .toml path or a woven.Scene. fabric: a built-in name, a
 fabric .toml path or a woven.Fabric (default: the scene's). grid, solver ("fast" or "paper"),
 seed, threads (0: all cores), max_steps (0: the solver's default), perturb (m) and hysteresis
-("loading-branch" or "friction") are the command's options, checked as it checks them: a bad value raises woven.InputError with its
+("loading-branch" or "friction") and bias ("threads" or "fabric": bias bending) are the command's options, checked as it checks them: a bad value raises woven.InputError with its
 message ("command line: --grid: ..."). progress, if given, is called with a dict after each step
 (event "step": step, max_steps, time_s, energy_J, residual and tolerance in units of m g,
 move_m, wall_s, fraction of the way to the tolerance) and before each Newton iteration (event
 "iteration": step, iteration, total_iterations, time_step_s, residual, tolerance, wall_s); if it
 returns False the drape stops there, as on Ctrl-C. The solver runs without the GIL. Ctrl-C
 stops it after the current step or iteration and returns the state reached, with
-interrupted True. Returns a woven.DrapeResult.)");
+interrupted True. initial_positions, an (n, 3) array in m (n the grid's particles, as
+DrapeResult.particles), starts the cloth there instead of the scene's flat start (the scene's
+pinned particles stay where it pins them); report["start_sha256"] is the SHA-256 of its float64
+bytes. Returns a woven.DrapeResult.)");
 }
 
 }  // namespace woven::python

@@ -92,6 +92,18 @@ std::unique_ptr<DrapeSetup> prepare_drape(const DrapeOptions& options, std::vect
         d.problem.initial = start.x;
         d.start_sha256 = start.sha256;
     }
+    if (inputs.initial) {  // given as positions (Python)
+        if (static_cast<int>(inputs.initial->size()) != d.grid.size())
+            throw InputError("initial_positions", "shape",
+                             "expected " + std::to_string(d.grid.size()) + " rows, one per particle of the " + std::to_string(d.grid.nu) + " x " +
+                                 std::to_string(d.grid.nv) + " grid, got " + std::to_string(inputs.initial->size()));
+        for (const Vec3& p : *inputs.initial)
+            if (!p.allFinite()) throw InputError("initial_positions", "values", "expected finite positions in m");
+        Positions x = *inputs.initial;
+        for (int p : scene.pinned_indices()) x[p] = d.problem.initial[p];
+        d.problem.initial = std::move(x);
+        d.start_sha256 = inputs.initial_sha256;
+    }
     d.problem.pinned = scene.pinned_indices();
     d.energy_initial = d.model->energy(d.problem.initial);
     d.max_steps = scene.solver.max_steps > 0 ? scene.solver.max_steps : sim::default_max_steps(scene.solver.kind);

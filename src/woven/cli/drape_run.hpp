@@ -53,6 +53,11 @@ struct DrapeInputs {
     std::optional<io::SceneSpec> scene;        ///< absent: io::find_scene(options.scene)
     std::optional<kes::FabricData> fabric;     ///< absent: options.fabric, else the scene's
     std::string fabric_source;                 ///< names `fabric` in the fitting's errors
+    /// A start instead of the scene's (the Python module's initial_positions=): one position
+    /// per grid particle (m), the scene's pinned particles where the scene puts them; its
+    /// SHA-256 goes into report.json's start_sha256.
+    std::optional<Positions> initial;
+    std::string initial_sha256;
 };
 
 /// Step 1 of `woven drape`: the options (grid, solver, seed, threads, max-steps, perturb;

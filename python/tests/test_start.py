@@ -1,0 +1,38 @@
+"""A drape started from given positions (issue 43 item 1): initial_positions= takes an (n, 3)
+array, its SHA-256 goes into the report, a wrong shape is refused; and bias bending by name."""
+import hashlib
+
+import numpy as np
+import pytest
+
+import woven
+
+
+def test_a_drape_started_from_its_own_rest_stays_there():
+    first = woven.drape("sphere", grid=9, seed=1, threads=1, perturb=0)
+    assert first.converged and first.report["start_sha256"] == ""
+    start = np.ascontiguousarray(first.particles, dtype=np.float64)
+    again = woven.drape("sphere", grid=9, seed=1, threads=1, perturb=0, initial_positions=start)
+    assert again.report["start_sha256"] == hashlib.sha256(start.tobytes()).hexdigest()
+    e = first.report["energy"]["total_J"]
+    assert again.report["energy_initial_J"] == pytest.approx(e, rel=1e-12)
+    assert again.report["energy"]["total_J"] == pytest.approx(e, rel=1e-6)
+    assert again.steps <= first.steps
+
+
+def test_initial_positions_of_another_grid_or_shape_are_refused():
+    with pytest.raises(woven.InputError, match="initial_positions: shape: expected 81 rows"):
+        woven.drape("sphere", grid=9, threads=1, initial_positions=np.zeros((80, 3)))
+    with pytest.raises(TypeError, match=r"\(n, 3\) array"):
+        woven.drape("sphere", grid=9, threads=1, initial_positions=np.zeros((81, 2)))
+    bad = np.zeros((81, 3))
+    bad[5, 1] = np.nan
+    with pytest.raises(woven.InputError, match="initial_positions: values: expected finite"):
+        woven.drape("sphere", grid=9, threads=1, initial_positions=bad)
+
+
+def test_bias_bending_is_an_option():
+    r = woven.drape("sphere", grid=9, seed=1, threads=1, bias="fabric")
+    assert r.report["model"]["bias_bending"] == "fabric" and r.report["energy"]["twist_J"] > 0
+    with pytest.raises(woven.InputError, match="--bias"):
+        woven.drape("sphere", grid=9, threads=1, bias="diagonal")
