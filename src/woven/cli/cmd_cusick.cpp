@@ -190,7 +190,6 @@ int run_cusick(const CusickCommandOptions& o)
     if (o.shakes) co.shakes = static_cast<int>(parse_integer(*o.shakes, "--shakes", 0, 100));
     if (o.bias) co.model.bias_bending = parse_bias_bending(*o.bias, "--bias");
     testers::CusickSearchOptions search;
-    search.release = true;
     if (!o.search && (o.modes || o.jobs)) throw InputError(kCommandLine, o.modes ? "--modes" : "--jobs", "expected only with --search");
     if (o.search && o.start) throw InputError(kCommandLine, "--start", "expected without --search (the search makes its own starts)");
     if (o.search) {

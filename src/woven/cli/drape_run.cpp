@@ -86,23 +86,26 @@ std::unique_ptr<DrapeSetup> prepare_drape(const DrapeOptions& options, std::vect
     if (d.model->has_slip()) d.problem.slip = &*d.model;  // friction: the states evolve with the drape
     d.problem.obstacles = &scene.obstacles;
     d.problem.initial = scene.cloth.initial_positions();
-    if (options.start) {  // a drape read back: same scene and grid, the pinned particles where the scene pins them
-        io::StartState start = io::load_start(parse_path(*options.start, "--start"), d.grid, d.model->stencils().active, d.problem.initial);
-        for (int p : scene.pinned_indices()) start.x[p] = d.problem.initial[p];
-        d.problem.initial = start.x;
-        d.start_sha256 = start.sha256;
-    }
-    if (inputs.initial) {  // given as positions (Python)
+    // A start instead of the scene's: a drape read back (--start) or positions (Python); the
+    // scene's pinned particles stay where it pins them.
+    std::optional<Positions> start;
+    if (options.start) {
+        io::StartState read = io::load_start(parse_path(*options.start, "--start"), d.grid, d.model->stencils().active, d.problem.initial);
+        start = std::move(read.x);
+        d.start_sha256 = read.sha256;
+    } else if (inputs.initial) {
         if (static_cast<int>(inputs.initial->size()) != d.grid.size())
             throw InputError("initial_positions", "shape",
                              "expected " + std::to_string(d.grid.size()) + " rows, one per particle of the " + std::to_string(d.grid.nu) + " x " +
                                  std::to_string(d.grid.nv) + " grid, got " + std::to_string(inputs.initial->size()));
         for (const Vec3& p : *inputs.initial)
             if (!p.allFinite()) throw InputError("initial_positions", "values", "expected finite positions in m");
-        Positions x = *inputs.initial;
-        for (int p : scene.pinned_indices()) x[p] = d.problem.initial[p];
-        d.problem.initial = std::move(x);
+        start = std::move(inputs.initial);
         d.start_sha256 = inputs.initial_sha256;
+    }
+    if (start) {
+        for (int p : scene.pinned_indices()) (*start)[p] = d.problem.initial[p];
+        d.problem.initial = std::move(*start);
     }
     d.problem.pinned = scene.pinned_indices();
     d.energy_initial = d.model->energy(d.problem.initial);

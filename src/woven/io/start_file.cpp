@@ -18,8 +18,6 @@ namespace {
 /// significant digits.
 constexpr double kRestTolerance = 1e-4;
 
-bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
-
 }  // namespace
 
 StartState parse_start_obj(std::string_view text, const std::string& source, const model::Grid& grid,
@@ -39,7 +37,7 @@ StartState parse_start_obj(std::string_view text, const std::string& source, con
         in >> tag;
         if (tag == "v") {
             Vec3 p;
-            if (!(in >> p.x() >> p.y() >> p.z()) || !finite(p))
+            if (!(in >> p.x() >> p.y() >> p.z()) || !p.allFinite())
                 throw InputError(source, "v", "line " + std::to_string(line_no) + ": expected three finite coordinates (m)");
             v.push_back(p);
         } else if (tag == "vt") {

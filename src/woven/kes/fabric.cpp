@@ -137,15 +137,9 @@ std::vector<std::string> validate(const FabricData& f, const std::string& source
     };
     check_bending(f.bending_warp, "warp");
     check_bending(f.bending_weft, "weft");
-    if (f.bias_B) {
-        check_range(*f.bias_B, 1e-4, 50, source, "bending.bias.B", "gf.cm^2/cm");
-        // A bias bend curves each thread by K/2: the threads alone give (B_warp + B_weft) / 4.
-        const double threads = 0.25 * (data_slope(f.bending_warp.curve, instrument::kBendingSlopeFrom, instrument::kBendingSlopeTo) +
-                                        data_slope(f.bending_weft.curve, instrument::kBendingSlopeFrom, instrument::kBendingSlopeTo));
-        if (!(*f.bias_B >= threads))
-            throw InputError(source, "bending.bias.B",
-                             "expected at least the threads' own bias rigidity (B_warp + B_weft) / 4 = " + std::to_string(threads) + " gf.cm^2/cm");
-    }
+    // B_45 below the threads' own share is refused where the model is built
+    // (model::fabric_twist_rigidity), on the fitted curves.
+    if (f.bias_B) check_range(*f.bias_B, 1e-4, 50, source, "bending.bias.B", "gf.cm^2/cm");
     if (f.shear.summary) {
         check_range(f.shear.summary->G, 1e-3, 50, source, "shear.G", "gf/(cm.deg)");
         check_range(f.shear.summary->two_HG, 0, 100, source, "shear.2HG", "gf/cm");
