@@ -2,6 +2,7 @@
 // Shared by the binding files of the Python module (python/): woven's fabrics and scenes as
 // Python objects, conversions of Python values, warnings, and running a command's code with
 // the GIL released, its printing captured and Ctrl-C polled.
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -11,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <pybind11/pybind11.h>
 
-#include "woven/cli/commands.hpp"
+#include "woven/app/files.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/kes/fabric.hpp"
@@ -60,10 +61,26 @@ py::object to_python(const nlohmann::json& j);
 /// The text a command line would carry for an option's value: None -> nullopt, str as is,
 /// os.PathLike as its path, anything else as str(value) (repr for a float, which reads back).
 std::optional<std::string> option_text(py::handle value);
+/// The typed value of an option given as a Python value (its text, as option_text): None ->
+/// nullopt; InputError "command line: <option>: expected ..." as the command's own for a value
+/// that is not one, or out of [lo, hi].
+std::optional<long long> integer_arg(py::handle value, const std::string& option, long long lo, long long hi);
+std::optional<std::uint64_t> seed_arg(py::handle value, const std::string& option);
+std::optional<double> number_arg(py::handle value, const std::string& option, double lo, double hi);
+/// A number in (0, hi] ("expected a number in (0, hi], got ...").
+std::optional<double> positive_arg(py::handle value, const std::string& option, double hi);
+/// The enum value a Python str names in `table` (common/choice.hpp); None -> nullopt.
+template <class E, std::size_t N>
+std::optional<E> choice_arg(py::handle value, const std::string& option, const std::array<Named<E>, N>& table)
+{
+    const std::optional<std::string> text = option_text(value);
+    if (!text) return std::nullopt;
+    return app::named_choice(*text, option, table);
+}
 /// A fabric argument: a name or path (str, os.PathLike) or a woven.Fabric.
 struct FabricArg {
     std::string name;
-    cli::GivenFabric given;
+    app::GivenFabric given;
 };
 FabricArg fabric_arg(py::handle fabric);
 /// woven.InputWarning (a UserWarning), made by module.cpp.
@@ -95,7 +112,7 @@ public:
 /// progress line off and Ctrl-C (a signal the interpreter has seen) polled as an interrupt.
 /// The lines "woven: warning: ..." it printed are issued as Python warnings. Returns true when
 /// it was interrupted; `out` receives what it printed on stdout.
-/// `progress` (a callable, or None) gets a dict per progress event (cli::ProgressEvent) in place
+/// `progress` (a callable, or None) gets a dict per progress event (app::ProgressEvent) in place
 /// of the command's progress lines; False or KeyboardInterrupt from it stops the command as
 /// Ctrl-C does; another exception from it is raised once the command has stopped.
 bool run_command(const std::function<void()>& f, std::string* out = nullptr, py::handle progress = py::none());

@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "bindings.hpp"
-#include "woven/cli/progress.hpp"
+#include "woven/app/progress.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/values.hpp"
 
@@ -89,7 +89,7 @@ private:
     std::streambuf* err_old_;
 };
 
-/// The interrupt poll of cli::interrupt_requested while a command runs from Python.
+/// The interrupt poll of app::interrupt_requested while a command runs from Python.
 bool poll_python()
 {
     py::gil_scoped_acquire gil;
@@ -150,6 +150,34 @@ std::optional<std::string> option_text(py::handle v)
     if (py::hasattr(v, "__fspath__")) return py::str(py::module_::import("os").attr("fspath")(v)).cast<std::string>();
     if (PyFloat_Check(v.ptr())) return py::repr(v).cast<std::string>();
     return py::str(v).cast<std::string>();
+}
+
+std::optional<long long> integer_arg(py::handle v, const std::string& option, long long lo, long long hi)
+{
+    const std::optional<std::string> text = option_text(v);
+    if (!text) return std::nullopt;
+    return app::integer_from_text(*text, option, lo, hi);
+}
+
+std::optional<std::uint64_t> seed_arg(py::handle v, const std::string& option)
+{
+    const std::optional<std::string> text = option_text(v);
+    if (!text) return std::nullopt;
+    return app::seed_from_text(*text, option);
+}
+
+std::optional<double> number_arg(py::handle v, const std::string& option, double lo, double hi)
+{
+    const std::optional<std::string> text = option_text(v);
+    if (!text) return std::nullopt;
+    return app::number_from_text(*text, option, lo, hi);
+}
+
+std::optional<double> positive_arg(py::handle v, const std::string& option, double hi)
+{
+    const std::optional<std::string> text = option_text(v);
+    if (!text) return std::nullopt;
+    return app::positive_from_text(*text, option, hi);
 }
 
 FabricArg fabric_arg(py::handle fabric)
@@ -216,8 +244,8 @@ InCallback::~InCallback() { --t_callback_depth; }
 
 namespace {
 
-/// A cli::ProgressEvent as the dict a progress callable gets.
-py::dict event_dict(const cli::ProgressEvent& e)
+/// A app::ProgressEvent as the dict a progress callable gets.
+py::dict event_dict(const app::ProgressEvent& e)
 {
     py::dict d;
     d["event"] = e.event;
@@ -265,10 +293,10 @@ bool run_command(const std::function<void()>& f, std::string* out, py::handle pr
     std::optional<py::error_already_set> callback_error;
     {
         Capture capture;
-        cli::set_progress_shown(false);
-        cli::set_interrupt_poll(&poll_python);
+        app::set_progress_shown(false);
+        app::set_interrupt_poll(&poll_python);
         if (!progress.is_none())
-            cli::set_progress_sink([&](const cli::ProgressEvent& e) {
+            app::set_progress_sink([&](const app::ProgressEvent& e) {
                 py::gil_scoped_acquire gil;
                 if (signal_seen()) return false;
                 return call_progress(progress, event_dict(e), callback_error);
@@ -279,10 +307,10 @@ bool run_command(const std::function<void()>& f, std::string* out, py::handle pr
         } catch (...) {
             failure = std::current_exception();
         }
-        cli::set_progress_sink({});
-        interrupted = cli::interrupt_requested();
-        cli::set_interrupt_poll(nullptr);
-        cli::set_progress_shown(true);
+        app::set_progress_sink({});
+        interrupted = app::interrupt_requested();
+        app::set_interrupt_poll(nullptr);
+        app::set_progress_shown(true);
         err = capture.err();
         if (out) *out = capture.out();
     }

@@ -1,4 +1,4 @@
-// woven.drape and woven.DrapeResult: `woven drape` in its stages (cli/drape_run.hpp).
+// woven.drape and woven.DrapeResult: `woven drape` in its stages (app/drape.hpp).
 #include <chrono>
 #include <filesystem>
 
@@ -7,9 +7,8 @@
 
 #include "bindings.hpp"
 #include "woven/analysis/vertex_fields.hpp"
-#include "woven/cli/args.hpp"
-#include "woven/cli/drape_run.hpp"
-#include "woven/cli/progress.hpp"
+#include "woven/app/drape.hpp"
+#include "woven/app/progress.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/sha256.hpp"
 #include "woven/io/values.hpp"
@@ -20,8 +19,8 @@ namespace {
 
 /// A drape's state and report; save() writes the command's files.
 struct DrapeResult {
-    std::shared_ptr<cli::DrapeSetup> setup;
-    std::shared_ptr<cli::DrapeRun> run;
+    std::shared_ptr<app::DrapeSetup> setup;
+    std::shared_ptr<app::DrapeRun> run;
     nlohmann::json report;
 };
 
@@ -36,7 +35,7 @@ py::array_t<double> points_array(const std::vector<Vec3, Eigen::aligned_allocato
 
 py::array_t<std::int32_t> faces_array(const DrapeResult& r)
 {
-    const cli::DrapeRun& run = *r.run;
+    const app::DrapeRun& run = *r.run;
     std::vector<std::array<int, 3>> faces;
     if (run.cut_surface) {
         for (const auto& f : run.cut_surface->mesh.faces) faces.push_back({f[0], f[1], f[2]});
@@ -51,31 +50,37 @@ py::array_t<std::int32_t> faces_array(const DrapeResult& r)
 }
 
 /// woven.drape's and woven.Drape's scene, fabric and options, checked and built as the command
-/// builds them (cli::prepare_drape). Call with a CallLock held.
-std::shared_ptr<cli::DrapeSetup> setup_drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed,
+/// builds them (app::prepare_drape). Call with a CallLock held.
+std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed,
                                              py::object threads, py::object max_steps, py::object perturb, py::object hysteresis,
                                              py::object bias = py::none(), py::object initial_positions = py::none())
 {
-    cli::DrapeOptions o;
-    cli::DrapeInputs in;
+    app::DrapeRequest in;
     std::vector<std::string> warnings;
     const Scene* given_scene = py::isinstance<Scene>(scene) ? &scene.cast<const Scene&>() : nullptr;
-    if (!given_scene) o.scene = option_text(scene).value_or("cube");
+    if (!given_scene) in.scene = option_text(scene).value_or("cube");
     if (py::isinstance<Fabric>(fabric)) {
         const Fabric& f = fabric.cast<const Fabric&>();
-        in.fabric = *f.data;
+        in.fabric_data = *f.data;
         in.fabric_source = f.source;
     } else {
-        o.fabric = option_text(fabric);
+        in.fabric = option_text(fabric);
     }
-    o.grid = option_text(grid);
-    o.solver = option_text(solver);
-    o.seed = option_text(seed);
-    o.threads = option_text(threads);
-    o.max_steps = option_text(max_steps);
-    o.perturb = option_text(perturb);
-    o.hysteresis = option_text(hysteresis);
-    o.bias = option_text(bias);
+    run_command([&] {  // the command's order: the scene, then the options
+        if (given_scene) in.scene_spec = given_scene->build(&warnings);
+        else in.scene_spec = io::find_scene(in.scene, &warnings);
+    });
+    if (const auto g = integer_arg(grid, "--grid", app::kGridRange[0], app::kGridRange[1])) in.grid = static_cast<int>(*g);
+    if (const auto k = option_text(solver)) {
+        in.solver = sim::solver_kind_from_string(*k);
+        if (!in.solver) throw InputError(app::kCommandLine, "--solver", "expected fast or paper");
+    }
+    in.seed = seed_arg(seed, "--seed");
+    if (const auto m = integer_arg(max_steps, "--max-steps", app::kMaxStepsRange[0], app::kMaxStepsRange[1])) in.max_steps = static_cast<int>(*m);
+    if (const auto t = integer_arg(threads, "--threads", 0, io::kMaxThreads)) in.threads = static_cast<int>(*t);
+    in.perturb_m = number_arg(perturb, "--perturb", 0, io::kMaxPerturbation_m);
+    in.hysteresis = choice_arg(hysteresis, "--hysteresis", model::kHysteresisNames);
+    in.bias = choice_arg(bias, "--bias", model::kBiasBendingNames);
     if (!initial_positions.is_none()) {  // an (n, 3) array of positions in m
         const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(initial_positions);
         if (!a || a.ndim() != 2 || a.shape(1) != 3)
@@ -86,11 +91,8 @@ std::shared_ptr<cli::DrapeSetup> setup_drape(py::object scene, py::object fabric
         in.initial_sha256 = io::sha256_hex(std::string_view(reinterpret_cast<const char*>(a.data()), static_cast<std::size_t>(a.nbytes())));
         in.initial = std::move(x);
     }
-    std::shared_ptr<cli::DrapeSetup> setup;
-    run_command([&] {
-        if (given_scene) in.scene = given_scene->build(&warnings);
-        setup = cli::prepare_drape(o, warnings, std::move(in));
-    });
+    std::shared_ptr<app::DrapeSetup> setup;
+    run_command([&] { setup = app::prepare_drape(std::move(in), warnings); });
     warn(warnings);
     return setup;
 }
@@ -99,7 +101,7 @@ std::shared_ptr<cli::DrapeSetup> setup_drape(py::object scene, py::object fabric
 /// the GIL back briefly to look for Ctrl-C and to call `progress`.
 class SolveCallbacks {
 public:
-    SolveCallbacks(py::object progress, const cli::DrapeSetup& setup)
+    SolveCallbacks(py::object progress, const app::DrapeSetup& setup)
         : progress_(std::move(progress)), max_steps_(setup.max_steps), tolerance_(setup.scene.solver.residual_tolerance),
           measure_(setup.max_steps, tolerance_), start_(std::chrono::steady_clock::now())
     {
@@ -161,7 +163,7 @@ private:
     py::object progress_;
     int max_steps_;
     double tolerance_;
-    cli::Progress measure_;  ///< the progress bar's fraction (not drawn)
+    app::Progress measure_;  ///< the progress bar's fraction (not drawn)
     std::chrono::steady_clock::time_point start_;
     bool interrupted_ = false;
     std::optional<py::error_already_set> error_;
@@ -178,26 +180,26 @@ DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::obje
     r.setup = setup_drape(scene, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis, bias, initial_positions);
 
     // 2. The solve, without the GIL.
-    const cli::DrapeSetup& setup = *r.setup;
+    const app::DrapeSetup& setup = *r.setup;
     SolveCallbacks callbacks(progress, setup);
     sim::Result result;
     {
         py::gil_scoped_release release;
-        result = cli::solve_drape(setup, callbacks.on_step(), callbacks.on_iteration());
+        result = app::solve_drape(setup, callbacks.on_step(), callbacks.on_iteration());
     }
     callbacks.raise_error();
 
     // 3. The state reached, measured, and its report (report.json without `files`).
-    r.run = std::make_shared<cli::DrapeRun>(cli::finish_drape(setup, std::move(result), callbacks.interrupted()));
-    r.report = cli::drape_report_json(*r.run, {});
+    r.run = std::make_shared<app::DrapeRun>(app::finish_drape(setup, std::move(result), callbacks.interrupted()));
+    r.report = app::drape_report_json(*r.run, {});
     return r;
 }
 
-/// woven.Drape: a drape stepped from Python (cli::SteppedDrape), its obstacles replaceable
+/// woven.Drape: a drape stepped from Python (app::SteppedDrape), its obstacles replaceable
 /// between steps.
 struct Stepper {
-    std::shared_ptr<cli::DrapeSetup> setup;
-    std::unique_ptr<cli::SteppedDrape> run;  ///< after setup: it holds a reference to it
+    std::shared_ptr<app::DrapeSetup> setup;
+    std::unique_ptr<app::SteppedDrape> run;  ///< after setup: it holds a reference to it
     bool changed = false;                    ///< the obstacles changed since the last step
     double changed_residual = 0;             ///< the residual against the new obstacles
 };
@@ -208,7 +210,7 @@ std::shared_ptr<Stepper> make_stepper(py::object scene, py::object fabric, py::o
     const CallLock lock;
     auto st = std::make_shared<Stepper>();
     st->setup = setup_drape(scene, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis);
-    st->run = std::make_unique<cli::SteppedDrape>(*st->setup);
+    st->run = std::make_unique<app::SteppedDrape>(*st->setup);
     return st;
 }
 
@@ -227,7 +229,7 @@ bool step(Stepper& st, int steps, py::object progress)
         });
     }
     callbacks.raise_error();
-    cli::require_finite_positions(st.run->positions(), "the drape");
+    app::require_finite_positions(st.run->positions(), "the drape");
     st.changed = false;
     return st.run->totals().converged;
 }
@@ -245,8 +247,8 @@ void set_obstacles(Stepper& st, py::iterable obstacles)
         set.add(io::obstacle_from_values(o.values, kPythonObstacle, base, &kind));
         kinds.push_back(kind);
     }
-    cli::replace_obstacles(*st.setup, std::move(set), std::move(kinds), st.run->positions(), "Drape");
-    const cli::DrapeSetup& d = *st.setup;
+    app::replace_obstacles(*st.setup, std::move(set), std::move(kinds), st.run->positions(), "Drape");
+    const app::DrapeSetup& d = *st.setup;
     st.changed = true;
     st.changed_residual = sim::max_residual_relative(*d.model, d.scene.obstacles, st.run->positions(), d.problem.pinned,
                                                      d.scene.solver.contact_distance, d.scene.solver.friction);
@@ -260,21 +262,21 @@ DrapeResult stepper_result(const Stepper& st)
     sim::Result totals = st.run->totals();
     totals.x = st.run->positions();
     if (st.changed) totals.converged = false;
-    r.run = std::make_shared<cli::DrapeRun>(cli::finish_drape(*st.setup, std::move(totals), st.run->totals().interrupted));
-    r.report = cli::drape_report_json(*r.run, {});
+    r.run = std::make_shared<app::DrapeRun>(app::finish_drape(*st.setup, std::move(totals), st.run->totals().interrupted));
+    r.report = app::drape_report_json(*r.run, {});
     return r;
 }
 
 nlohmann::json save(const DrapeResult& r, py::object out, bool render, bool ply_ascii, py::object width, py::object height)
 {
-    cli::DrapeWriteOptions w;
+    app::DrapeWriteOptions w;
     w.no_render = !render;
     w.ply_ascii = ply_ascii;
-    w.width = static_cast<int>(cli::parse_integer(option_text(width).value_or(""), "--width", 1, 16384));
-    w.height = static_cast<int>(cli::parse_integer(option_text(height).value_or(""), "--height", 1, 16384));
-    const std::string dir = cli::parse_path(option_text(out).value_or(""), "--out");
+    w.width = static_cast<int>(integer_arg(width, "--width", app::kPictureSizeRange[0], app::kPictureSizeRange[1]).value_or(0));
+    w.height = static_cast<int>(integer_arg(height, "--height", app::kPictureSizeRange[0], app::kPictureSizeRange[1]).value_or(0));
+    const std::string dir = option_text(out).value_or("");
     nlohmann::json report;
-    run_command([&] { report = cli::write_drape_outputs(*r.run, dir, w); });
+    run_command([&] { report = app::write_drape_outputs(*r.run, dir, w); });
     return report;
 }
 
@@ -296,7 +298,7 @@ fields are per grid particle, as in drape.ply. save(dir) writes the files `woven
         .def_property_readonly("grid", [](const DrapeResult& r) { return py::make_tuple(r.setup->grid.nu, r.setup->grid.nv); },
                                "(nu, nv): particles along u (weft, i) and v (warp, j).")
         .def_property_readonly("fields", [](const DrapeResult& r) {
-            const cli::DrapeSetup& s = *r.setup;
+            const app::DrapeSetup& s = *r.setup;
             py::dict d;
             for (const auto& f : analysis::vertex_fields(*s.model, s.scene.obstacles, r.run->result.x, s.scene.solver.contact_distance,
                                                           s.scene.solver.friction).list())

@@ -5,8 +5,8 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
-#include "woven/cli/report.hpp"
-#include "woven/cli/run_checks.hpp"
+#include "woven/app/drape_report.hpp"
+#include "woven/app/run_checks.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/values.hpp"
 
@@ -53,7 +53,7 @@ Fabric load_fabric(py::handle name_or_path)
         py::gil_scoped_release release;
         f.data = std::make_shared<const kes::FabricData>(io::find_fabric(name, &warnings));
     }
-    f.source = cli::fabric_source(name);
+    f.source = app::fabric_source(name);
     warn(warnings);
     return f;
 }
@@ -132,11 +132,11 @@ ValueError) with woven's message; unknown keys and unusual values give woven.Inp
         .def_property_readonly("W", [](const Fabric& f) { return f.data->areal_density_mg_cm2; }, "W, mg/cm^2 (areal_density_mg_cm2).")
         .def_property_readonly("thickness_mm", [](const Fabric& f) { return f.data->thickness_mm; }, "Thickness, mm (None when not given).")
         .def_property_readonly("color", [](const Fabric& f) { return f.data->color; }, "Display colour, sRGB in 0..1 (None when not given).")
-        .def_property_readonly("B_warp", [](const Fabric& f) { return cli::kes_values(*f.data).B_warp; },
+        .def_property_readonly("B_warp", [](const Fabric& f) { return app::kes_values(*f.data).B_warp; },
                                "KES-FB2 bending rigidity B, warp, gf.cm^2/cm (the summary value, or the curve's slope over 0.5-1.5 1/cm).")
-        .def_property_readonly("B_weft", [](const Fabric& f) { return cli::kes_values(*f.data).B_weft; },
+        .def_property_readonly("B_weft", [](const Fabric& f) { return app::kes_values(*f.data).B_weft; },
                                "KES-FB2 bending rigidity B, weft, gf.cm^2/cm.")
-        .def_property_readonly("G", [](const Fabric& f) { return cli::kes_values(*f.data).G; },
+        .def_property_readonly("G", [](const Fabric& f) { return app::kes_values(*f.data).G; },
                                "KES-FB1 shear rigidity G, gf/(cm.deg) (the summary value, or the curve's slope over 0.5-5 deg).")
         .def_property_readonly("two_HB_warp", [](const Fabric& f) { return summary_value(f.data->bending_warp.summary, [](const kes::BendingSummary& s) { return s.two_HB; }); },
                                "2HB, warp, gf.cm/cm (None when the file gave the curve).")
@@ -153,7 +153,7 @@ ValueError) with woven's message; unknown keys and unusual values give woven.Inp
         .def_property_readonly("shear_curve", [](const Fabric& f) { return curve_array(f.data->shear.curve); },
                                "The first-stage KES-FB1 curve: (n, 2) array of shear angle (deg), force (gf/cm).")
         .def("__repr__", [](const Fabric& f) {
-            const cli::KesValues v = cli::kes_values(*f.data);
+            const app::KesValues v = app::kes_values(*f.data);
             char b[200];
             std::snprintf(b, sizeof b, "': W %.4g mg/cm2, B %.4g / %.4g gf.cm2/cm (warp / weft), G %.4g gf/(cm.deg)>", v.W, v.B_warp,
                           v.B_weft, v.G);

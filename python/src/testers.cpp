@@ -7,6 +7,9 @@
 #include <pybind11/numpy.h>
 
 #include "bindings.hpp"
+#include "woven/app/cusick.hpp"
+#include "woven/app/fit.hpp"
+#include "woven/app/kes_test.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/mesh_file.hpp"
 
@@ -43,13 +46,6 @@ private:
     std::string path_;
     bool temporary_ = false;
 };
-
-nlohmann::json read_json(const std::string& path)
-{
-    std::ifstream in(path);
-    if (!in) throw RuntimeError(path + ": not written");
-    return nlohmann::json::parse(in);
-}
 
 /// A CSV the commands write (a header of names, then numbers) as {column: float64 array};
 /// anything that is not a number reads as nan.
@@ -88,24 +84,35 @@ py::object kes_test(py::object fabric, py::object test, py::object direction, py
                     py::object bending_form, py::object discretization, py::object shear_law, py::object hysteresis, bool convergence,
                     py::object threads, py::object out, py::object progress)
 {
-    cli::KesTestOptions o;
+    app::KesTestRequest r;
     const FabricArg f = fabric_arg(fabric);
-    o.fabric = f.name;
-    o.given_fabric = f.given;
-    o.test = option_text(test).value_or("all");
-    o.direction = option_text(direction).value_or("both");
-    o.sigma_cm = option_text(sigma_cm);
-    o.shear_length_cm = option_text(shear_length_cm);
-    o.bending_form = option_text(bending_form);
-    o.discretization = option_text(discretization);
-    o.shear_law = option_text(shear_law);
-    o.hysteresis = option_text(hysteresis);
-    o.convergence = convergence;
-    o.threads = option_text(threads);
+    r.fabric = f.name;
+    r.given_fabric = f.given;
+    r.tests = choice_arg(test, "--test", app::kKesTestsNames).value_or(app::KesTests::ALL);
+    if (convergence && r.tests != app::KesTests::ALL && r.tests != app::KesTests::CANTILEVER)
+        throw InputError(app::kCommandLine, "--convergence", "expected --test cantilever or all (a study of the cantilever test)");
+    r.convergence = convergence;
+    r.directions = choice_arg(direction, "--direction", app::kKesDirectionsNames).value_or(app::KesDirections::BOTH);
+    r.sigma_cm = number_arg(sigma_cm, "--sigma-cm", app::kKesSigmaRange_cm[0], app::kKesSigmaRange_cm[1]);
+    r.shear_length_cm = number_arg(shear_length_cm, "--shear-length-cm", app::kKesShearLengthRange_cm[0], app::kKesShearLengthRange_cm[1]);
+    r.bending_form = choice_arg(bending_form, "--bending-form", app::kBendingFormNames);
+    r.discretization = choice_arg(discretization, "--discretization", model::kDiscretizationNames);
+    r.shear_law = choice_arg(shear_law, "--shear-law", model::kShearLawNames);
+    r.hysteresis = choice_arg(hysteresis, "--hysteresis", model::kHysteresisNames);
+    r.threads = static_cast<int>(integer_arg(threads, "--threads", 0, io::kMaxThreads).value_or(0));
     const OutDir dir(out);
-    o.out = dir.path();
-    run_command([&] { cli::run_kes_test(o); }, nullptr, progress);
-    py::dict report = to_python(read_json((fs::path(dir.path()) / "kes-report.json").string()));
+    r.out = dir.path();
+    std::vector<std::string> warnings;
+    r.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
+    app::KesTestResult result;
+    try {
+        run_command([&] { result = app::kes_test(r); }, nullptr, progress);
+    } catch (...) {
+        warn(warnings);  // as they came, before the error
+        throw;
+    }
+    warn(warnings);
+    py::dict report = to_python(result.report);
     // The curves the CSV files hold, as arrays: {"bending_warp": {"K_per_cm": ..., ...}, ...}.
     py::dict curves;
     for (const auto& e : fs::directory_iterator(dir.path()))
@@ -118,26 +125,36 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
                   py::object threads, py::object max_steps, py::object shear_law, py::object hysteresis, py::object protocol,
                   py::object shakes, bool render, py::object out, py::object progress)
 {
-    cli::CusickCommandOptions o;
+    app::CusickRequest r;
     const FabricArg f = fabric_arg(fabric);
-    o.fabric = f.name;
-    o.given_fabric = f.given;
-    o.specimen_cm = option_text(specimen_cm).value_or("30");
-    o.disc_cm = option_text(disc_cm).value_or("18");
-    o.spacing_cm = option_text(spacing_cm);
-    o.seeds = option_text(seeds).value_or("1");
-    o.seed = option_text(seed).value_or("1");
-    o.threads = option_text(threads);
-    o.max_steps = option_text(max_steps);
-    o.shear_law = option_text(shear_law);
-    o.hysteresis = option_text(hysteresis);
-    o.protocol = option_text(protocol);
-    o.shakes = option_text(shakes);
-    o.no_render = !render;
+    r.fabric = f.name;
+    r.given_fabric = f.given;
+    r.specimen_cm = positive_arg(specimen_cm, "--specimen-cm", app::kCusickMaxDiameter_cm).value_or(30);
+    r.disc_cm = positive_arg(disc_cm, "--disc-cm", app::kCusickMaxDiameter_cm).value_or(18);
+    r.spacing_cm = positive_arg(spacing_cm, "--spacing-cm", app::kCusickMaxSpacing_cm);
+    r.seeds = static_cast<int>(integer_arg(seeds, "--seeds", app::kCusickSeedsRange[0], app::kCusickSeedsRange[1]).value_or(1));
+    r.seed = seed_arg(seed, "--seed").value_or(1);
+    if (const auto t = integer_arg(threads, "--threads", app::kCusickThreadsRange[0], app::kCusickThreadsRange[1])) r.threads = static_cast<int>(*t);
+    if (const auto m = integer_arg(max_steps, "--max-steps", app::kCusickMaxStepsRange[0], app::kCusickMaxStepsRange[1]))
+        r.max_steps = static_cast<int>(*m);
+    r.shear_law = choice_arg(shear_law, "--shear-law", model::kShearLawNames);
+    r.hysteresis = choice_arg(hysteresis, "--hysteresis", model::kHysteresisNames);
+    r.protocol = choice_arg(protocol, "--protocol", testers::kCusickProtocolNames);
+    if (const auto n = integer_arg(shakes, "--shakes", app::kCusickShakesRange[0], app::kCusickShakesRange[1])) r.shakes = static_cast<int>(*n);
+    r.render = render;
     const OutDir dir(out);
-    o.out = dir.path();
-    run_command([&] { cli::run_cusick(o); }, nullptr, progress);
-    py::dict report = to_python(read_json((fs::path(dir.path()) / "cusick.json").string()));
+    r.out = dir.path();
+    std::vector<std::string> warnings;
+    r.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
+    app::CusickResult result;
+    try {
+        run_command([&] { result = app::cusick(r); }, nullptr, progress);
+    } catch (...) {
+        warn(warnings);  // as they came, before the error
+        throw;
+    }
+    warn(warnings);
+    py::dict report = to_python(result.report);
     // The draped specimen (cusick.obj) as arrays, m, z up.
     const fs::path obj = fs::path(dir.path()) / "cusick.obj";
     if (fs::exists(obj)) {
@@ -158,19 +175,25 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
 
 py::object fit(py::object fabric, py::object sigma_cm, py::object out)
 {
-    cli::FitOptions o;
+    app::FitRequest request;
     const FabricArg f = fabric_arg(fabric);
-    o.fabric = f.name;
-    o.given_fabric = f.given;
-    o.sigma_cm = option_text(sigma_cm).value_or("2");
+    request.fabric = f.name;
+    request.given_fabric = f.given;
+    request.sigma_cm = number_arg(sigma_cm, "--sigma-cm", app::kFitSigmaRange_cm[0], app::kFitSigmaRange_cm[1]).value_or(2);
     const OutDir dir(out);
-    o.out = dir.path();
-    std::string printed;
-    run_command([&] { cli::run_fit(o); }, &printed);
-    nlohmann::json report = read_json((fs::path(dir.path()) / "report.json").string());
-    // What the command prints: the fits and the energies' constants, less its "wrote" line.
-    if (const auto k = printed.rfind("wrote "); k != std::string::npos) printed.erase(k);
-    report["summary"] = printed;
+    request.out = dir.path();
+    std::vector<std::string> warnings;
+    request.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
+    app::FitResult result;
+    try {
+        run_command([&] { result = app::fit(request); });
+    } catch (...) {
+        warn(warnings);  // as they came, before the error
+        throw;
+    }
+    warn(warnings);
+    nlohmann::json report = std::move(result.report);
+    report["summary"] = result.summary;  // each curve's fit and the energies' constants
     return to_python(report);
 }
 

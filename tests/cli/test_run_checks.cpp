@@ -1,5 +1,4 @@
-// Unit tests of the cli's run checks (issue 13 defects 2, 9, 12, 14): the sources are compiled
-// into this test directly, since the cli is an executable, not a library.
+// Unit tests of the run checks of the application floor (issue 13 defects 2, 9, 12, 14).
 #include <cmath>
 #include <limits>
 
@@ -7,9 +6,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "woven/cli/progress.cpp"
-#include "woven/cli/resources.cpp"
-#include "woven/cli/run_checks.cpp"
+#include "woven/app/progress.hpp"
+#include "woven/app/resources.hpp"
+#include "woven/app/run_checks.hpp"
 #include "woven/common/error.hpp"
 
 using namespace woven;
@@ -18,31 +17,31 @@ TEST(RunChecks, NoReportWithANonFiniteNumber)
 {
     // Defect 2: a report claiming convergence with null energies was written; now the run fails.
     nlohmann::json r = {{"converged", true}, {"energy", {{"total_J", 0.5}}}, {"folds", nullptr}};
-    EXPECT_NO_THROW(cli::require_finite(r, "the drape", {"folds"}));
+    EXPECT_NO_THROW(app::require_finite(r, "the drape", {"folds"}));
     r["energy"]["total_J"] = nullptr;  // what a non-finite number becomes in JSON
     try {
-        cli::require_finite(r, "the drape", {"folds"});
+        app::require_finite(r, "the drape", {"folds"});
         FAIL();
     } catch (const RuntimeError& e) {
         EXPECT_STREQ(e.what(), "the drape ended with a non-finite number (energy.total_J); no outputs written");
     }
     r["energy"]["total_J"] = std::numeric_limits<double>::infinity();
-    EXPECT_THROW(cli::require_finite(r, "the drape", {"folds"}), RuntimeError);
+    EXPECT_THROW(app::require_finite(r, "the drape", {"folds"}), RuntimeError);
     r["energy"]["total_J"] = 0.5;
     r["bbox"] = {{"min_m", {0.0, std::nan(""), 0.0}}};
-    EXPECT_THROW(cli::require_finite(r, "the drape", {"folds"}), RuntimeError);
+    EXPECT_THROW(app::require_finite(r, "the drape", {"folds"}), RuntimeError);
     r.erase("bbox");
-    EXPECT_THROW(cli::require_finite(r, "the drape"), RuntimeError);  // folds: null, not optional here
+    EXPECT_THROW(app::require_finite(r, "the drape"), RuntimeError);  // folds: null, not optional here
 }
 
 TEST(RunChecks, ThreadsNeverExceedTheCoresAvailable)
 {
     // Defect 9: the request is capped at the cores of the affinity mask (and cgroup quota).
-    const int cores = cli::available_cores();
+    const int cores = app::available_cores();
     EXPECT_GE(cores, 1);
-    EXPECT_EQ(cli::threads_to_use(0), cores);
-    EXPECT_EQ(cli::threads_to_use(1), 1);
-    EXPECT_EQ(cli::threads_to_use(cores + 5), cores);
+    EXPECT_EQ(app::threads_to_use(0), cores);
+    EXPECT_EQ(app::threads_to_use(1), 1);
+    EXPECT_EQ(app::threads_to_use(cores + 5), cores);
 }
 
 TEST(RunChecks, MemoryEstimateFollowsTheMeasuredPeaks)
@@ -58,11 +57,11 @@ TEST(RunChecks, MemoryEstimateFollowsTheMeasuredPeaks)
     for (int k = 0; k < 5; ++k) {
         const long long n = static_cast<long long>(sides[k]) * sides[k];
         const double one = one_thread_kB[k] * 1024, two = two_threads_kB[k] * 1024;
-        EXPECT_NEAR(cli::estimate_drape_memory(n, 1).resident_bytes / margin, one, 0.03 * one) << sides[k];
-        EXPECT_NEAR(cli::estimate_drape_memory(n, 2).resident_bytes / margin, two, 0.03 * two) << sides[k];
-        EXPECT_GT(cli::estimate_drape_memory(n, 4).resident_bytes, 1.05 * two) << sides[k];  // never under, margin included
+        EXPECT_NEAR(app::estimate_drape_memory(n, 1).resident_bytes / margin, one, 0.03 * one) << sides[k];
+        EXPECT_NEAR(app::estimate_drape_memory(n, 2).resident_bytes / margin, two, 0.03 * two) << sides[k];
+        EXPECT_GT(app::estimate_drape_memory(n, 4).resident_bytes, 1.05 * two) << sides[k];  // never under, margin included
     }
-    const auto e = cli::estimate_drape_memory(4'000'000, 2);
+    const auto e = app::estimate_drape_memory(4'000'000, 2);
     EXPECT_GT(e.address_space_bytes, e.resident_bytes);
     EXPECT_GT(e.resident_bytes, 50e9);  // --grid 2000 cannot run in 4 GB
 }
@@ -70,7 +69,7 @@ TEST(RunChecks, MemoryEstimateFollowsTheMeasuredPeaks)
 TEST(RunChecks, ProgressBarFollowsTheResidualDownToTheTolerance)
 {
     // Defect 14: the bar measures log(r0 / r) / log(r0 / tolerance), whatever the step limit.
-    cli::Progress p(400, 1e-3);
+    app::Progress p(400, 1e-3);
     EXPECT_DOUBLE_EQ(p.fraction(1.0), 0.0);  // the first residual seen
     EXPECT_NEAR(p.fraction(0.1), 1.0 / 3.0, 1e-12);
     EXPECT_NEAR(p.fraction(0.01), 2.0 / 3.0, 1e-12);
@@ -84,23 +83,23 @@ TEST(RunChecks, FittingErrorsNameTheFabricFile)
 {
     // Defect 11: "fabric 'probe': bending.warp: ..." from the fitting stage names the file.
     try {
-        cli::with_fabric_source("probe.toml", [] { throw InputError("fabric 'probe'", "bending.warp", "cannot fit"); });
+        app::with_fabric_source("probe.toml", [] { throw InputError("fabric 'probe'", "bending.warp", "cannot fit"); });
         FAIL();
     } catch (const InputError& e) {
         EXPECT_STREQ(e.what(), "probe.toml: bending.warp: cannot fit");
     }
-    EXPECT_EQ(cli::fabric_source("cotton"), "built-in fabric 'cotton'");
-    EXPECT_EQ(cli::fabric_source("a/b.toml"), "a/b.toml");
+    EXPECT_EQ(app::fabric_source("cotton"), "built-in fabric 'cotton'");
+    EXPECT_EQ(app::fabric_source("a/b.toml"), "a/b.toml");
 }
 
 // Issue 36, defect 3: every table a command writes is checked finite before it is published.
 TEST(RunChecks, NoTableWithANonFiniteNumber)
 {
-    EXPECT_NO_THROW(cli::require_finite_csv("a,b\n1,2\nsimulated,3e-5\n", "t.csv", "fit"));
-    EXPECT_NO_THROW(cli::require_finite_csv("nan,inf\n1,2\n", "t.csv", "fit"));  // a header is text
+    EXPECT_NO_THROW(app::require_finite_csv("a,b\n1,2\nsimulated,3e-5\n", "t.csv", "fit"));
+    EXPECT_NO_THROW(app::require_finite_csv("nan,inf\n1,2\n", "t.csv", "fit"));  // a header is text
     for (const char* bad : {"a,b\n1,2\n3,-nan\n", "a,b\n1,2\n3,nan\n", "a,b\n1,2\ninf,4\n", "a,b\n1,2\n3,-inf\n"}) {
         try {
-            cli::require_finite_csv(bad, "t.csv", "fit");
+            app::require_finite_csv(bad, "t.csv", "fit");
             ADD_FAILURE() << bad;
         } catch (const RuntimeError& e) {
             EXPECT_STREQ(e.what(), "fit ended with a non-finite number (t.csv, line 3); no outputs written");
@@ -112,19 +111,19 @@ TEST(MemoryCheck, ShortOfFreeMemoryNowIsARuntimeFailureNotBadInput)
 {
     // Within the lasting limits (none here) but above what is free at this moment: exit 1,
     // "not enough memory now" (a dip in MemAvailable refused a default drape as bad input).
-    const cli::MemoryEstimate e = cli::estimate_drape_memory(51 * 51, 1);
+    const app::MemoryEstimate e = app::estimate_drape_memory(51 * 51, 1);
     try {
-        cli::check_memory_estimate(e, cli::MemoryLimit{}, 1e6, 2601, "scene.toml", "cloth.grid", "use a smaller grid");
+        app::check_memory_estimate(e, app::MemoryLimit{}, 1e6, 2601, "scene.toml", "cloth.grid", "use a smaller grid");
         FAIL();
     } catch (const RuntimeError& err) {
         EXPECT_THAT(std::string(err.what()), ::testing::HasSubstr("not enough memory now: 2601 particles need about"));
     }
     // Above a lasting limit: bad input, naming the field.
-    EXPECT_THROW(cli::check_memory_estimate(e, cli::MemoryLimit{1e6, "cgroup memory.max", false}, 1e12, 2601, "scene.toml", "cloth.grid",
+    EXPECT_THROW(app::check_memory_estimate(e, app::MemoryLimit{1e6, "cgroup memory.max", false}, 1e12, 2601, "scene.toml", "cloth.grid",
                                             "use a smaller grid"),
                  InputError);
-    EXPECT_NO_THROW(cli::check_memory_estimate(e, cli::MemoryLimit{1e12, "cgroup memory.max", false}, 1e12, 2601, "scene.toml",
+    EXPECT_NO_THROW(app::check_memory_estimate(e, app::MemoryLimit{1e12, "cgroup memory.max", false}, 1e12, 2601, "scene.toml",
                                                "cloth.grid", "use a smaller grid"));
     // The machine's memory is a lasting limit; MemAvailable is not one.
-    EXPECT_NE(cli::memory_limit().what, "MemAvailable");
+    EXPECT_NE(app::memory_limit().what, "MemAvailable");
 }

@@ -9,12 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "woven/app/files.hpp"
 #include "woven/common/choice.hpp"
+#include "woven/model/cloth_model.hpp"
 
 namespace woven::cli {
 
-/// The source named by errors in command-line values.
-inline constexpr const char* kCommandLine = "command line";
+/// The source named by errors in command-line values ("command line").
+using app::kCommandLine;
 
 /// An integer in [lo, hi] ("command line: --threads: expected an integer in [0, 4096], got '-1'").
 long long parse_integer(const std::string& text, const std::string& option, long long lo, long long hi);
@@ -35,12 +37,22 @@ std::size_t parse_choice(const std::string& text, const std::string& option, std
 template <class E, std::size_t N>
 E parse_choice(const std::string& text, const std::string& option, const std::array<Named<E>, N>& table)
 {
-    const std::vector<const char*> names = names_of(table);
-    return table[parse_choice(text, option, std::span<const char* const>(names))].value;
+    return app::named_choice(text, option, table);
 }
 
 /// std::optional versions: nullopt stays nullopt.
 std::optional<long long> parse_integer(const std::optional<std::string>& text, const std::string& option, long long lo,
                                        long long hi);
+
+/// The law a command-line word names (`--shear-law`); InputError naming `option` otherwise.
+model::ShearLaw parse_shear_law(const std::string& text, const std::string& option);
+/// --hysteresis: loading-branch or friction (the one-line error otherwise).
+model::Hysteresis parse_hysteresis(const std::string& text, const std::string& option);
+/// The help of --bias (drape, cusick).
+inline constexpr const char* kBiasBendingHelp =
+    "threads (the paper's: bending along the warp and weft alone) or fabric (and the twisting that gives the fabric's bias "
+    "bending rigidity, measured or estimated)";
+/// "threads" or "fabric" (model::BiasBending); InputError("command line", option, ...) otherwise.
+model::BiasBending parse_bias_bending(const std::string& text, const std::string& option);
 
 }  // namespace woven::cli

@@ -7,26 +7,54 @@
 
 #include <CLI/CLI.hpp>
 
+#include "woven/app/drape.hpp"
+#include "woven/app/drape_report.hpp"
+#include "woven/app/material.hpp"
+#include "woven/app/progress.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
-#include "woven/cli/drape_run.hpp"
-#include "woven/cli/material.hpp"
-#include "woven/cli/progress.hpp"
-#include "woven/cli/report.hpp"
+#include "woven/common/error.hpp"
+#include "woven/io/scene_file.hpp"
 
 namespace woven::cli {
+
+namespace {
+
+/// The command's options as a typed request (the one-line errors of bad values).
+DrapeRequest drape_request(const DrapeOptions& options)
+{
+    DrapeRequest r;
+    r.scene = options.scene;
+    r.fabric = options.fabric;
+    if (const auto g = parse_integer(options.grid, "--grid", kGridRange[0], kGridRange[1])) r.grid = static_cast<int>(*g);
+    if (options.solver) {
+        r.solver = sim::solver_kind_from_string(*options.solver);
+        if (!r.solver) throw InputError(kCommandLine, "--solver", "expected fast or paper");
+    }
+    if (options.seed) r.seed = parse_seed(*options.seed, "--seed");
+    if (const auto m = parse_integer(options.max_steps, "--max-steps", kMaxStepsRange[0], kMaxStepsRange[1]))
+        r.max_steps = static_cast<int>(*m);
+    if (const auto t = parse_integer(options.threads, "--threads", 0, io::kMaxThreads)) r.threads = static_cast<int>(*t);
+    if (options.perturb) r.perturb_m = parse_number(*options.perturb, "--perturb", 0, io::kMaxPerturbation_m);
+    if (options.hysteresis) r.hysteresis = parse_hysteresis(*options.hysteresis, "--hysteresis");
+    if (options.bias) r.bias = parse_bias_bending(*options.bias, "--bias");
+    if (options.start) r.start = parse_path(*options.start, "--start");
+    return r;
+}
+
+}  // namespace
 
 int run_drape(const DrapeOptions& options)
 {
     // 1. Validate everything: options, scene, fabric, model. Nothing is written before this.
     DrapeWriteOptions write;
-    write.width = static_cast<int>(parse_integer(options.width, "--width", 1, 16384));
-    write.height = static_cast<int>(parse_integer(options.height, "--height", 1, 16384));
+    write.width = static_cast<int>(parse_integer(options.width, "--width", kPictureSizeRange[0], kPictureSizeRange[1]));
+    write.height = static_cast<int>(parse_integer(options.height, "--height", kPictureSizeRange[0], kPictureSizeRange[1]));
     write.no_render = options.no_render;
     write.ply_ascii = options.ply_ascii;
     const std::string out_dir = parse_path(options.out, "--out");
     std::vector<std::string> warnings;
-    const std::unique_ptr<DrapeSetup> setup = prepare_drape(options, warnings);
+    const std::unique_ptr<DrapeSetup> setup = prepare_drape(drape_request(options), warnings);
     print_warnings(warnings);
 
     // 2. The output directory, before the (long) solve, so that a bad --out fails early.

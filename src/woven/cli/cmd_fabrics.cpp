@@ -7,8 +7,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "woven/app/drape_report.hpp"
 #include "woven/cli/commands.hpp"
-#include "woven/cli/report.hpp"
 #include "woven/io/fabric_file.hpp"
 
 namespace woven::cli {

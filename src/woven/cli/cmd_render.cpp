@@ -12,9 +12,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "woven/app/scene_view.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
-#include "woven/cli/scene_view.hpp"
 #include "woven/common/error.hpp"
 #include "woven/geometry/primitives.hpp"
 #include "woven/io/fabric_file.hpp"

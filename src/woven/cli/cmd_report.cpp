@@ -25,7 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/cli/commands.hpp"
-#include "woven/cli/sweep.hpp"
+#include "woven/app/sweep.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/mesh_file.hpp"

@@ -8,34 +8,23 @@
 #include <string>
 #include <vector>
 
+#include "woven/app/check.hpp"
+#include "woven/app/files.hpp"
+
 namespace CLI {
 class App;
 }
 
-namespace woven::kes {
-struct FabricData;
-}
-
 namespace woven::cli {
+
+// The front end calls the application floor (src/woven/app) by its names.
+using namespace woven::app;
 
 /// Exit codes (README "Exit codes").
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
 inline constexpr int kExitInterrupted = 130;  ///< SIGINT (Ctrl-C); SIGTERM gives 143 (progress.hpp)
-
-/// A fabric given as data rather than by name or file (the Python module's woven.Fabric built
-/// from values); `source` names it in messages and reports.
-struct GivenFabric {
-    std::shared_ptr<const kes::FabricData> data;
-    std::string source;
-};
-
-/// The fabric a command runs on: `given`'s data when it has some, else io::find_fabric(name)
-/// (its warnings appended to `warnings`).
-kes::FabricData command_fabric(const std::string& name, const GivenFabric& given, std::vector<std::string>* warnings);
-/// The name a command's fabric errors carry: `given`'s source, else fabric_source(name).
-std::string command_fabric_source(const std::string& name, const GivenFabric& given);
 
 struct FabricsOptions {
     bool json = false;
@@ -143,33 +132,7 @@ int run_kes_test(const KesTestOptions& options);   // cmd_kes_test.cpp
 int run_cusick(const CusickCommandOptions& options);  // cmd_cusick.cpp
 int run_check(const CheckOptions& options);
 
-/// The manifests of the commands' output sets, in the order they are looked for (check, report).
-inline constexpr const char* kManifests[] = {"report.json", "cusick.json", "kes-report.json"};
-/// `woven check DIR` for one output folder: the problems found, one line each (none: a complete
-/// set, its manifest's files there with their sizes and SHA-256); `what` gets the ok line's text.
-std::vector<std::string> check_output_folder(const std::string& dir, std::string* what = nullptr);
-
-/// `s` with its control characters written as \xNN, so that a message stays one line (main.cpp).
-std::string one_line(const std::string& s);
-/// A whole file the commands wrote (a log, a picture) or an installed resource (three.js), a
-/// regular file of at most 1 GiB (io::read_output_member); nullopt when it cannot be read. JSON
-/// goes through io::read_output_json (depth-limited), input files through io::read_input_file.
-std::optional<std::string> read_output_file(const std::string& path);
-
 /// Prints "woven: warning: <w>" on stderr for each warning.
 void print_warnings(const std::vector<std::string>& warnings);
-
-/// Creates `dir` (and its parents) when missing. A `dir` that exists and is not a directory, or
-/// cannot be created, is bad usage: InputError "command line: --out: ...". Call only after
-/// every input has been validated.
-void make_output_dir(const std::string& dir);
-
-/// An output file name made from text in an input file (a fabric's name): every character but
-/// [A-Za-z0-9._-] becomes '_', a leading '.' too, so that it never leaves its folder; empty
-/// becomes "unnamed".
-std::string safe_file_name(const std::string& text);
-
-/// `dir` / `name` as a string.
-std::string join_path(const std::string& dir, const std::string& name);
 
 }  // namespace woven::cli

@@ -207,6 +207,19 @@ struct Result {
     model::EnergyTerms energy;
 };
 
+/// Adds the counters of a further run to `total`: steps, iterations, factorisations, CG
+/// iterations, softened steps, simulated and wall time (a drape in stages, a drape resumed).
+inline void add_counters(Result& total, const Result& more)
+{
+    total.steps += more.steps;
+    total.iterations += more.iterations;
+    total.factorizations += more.factorizations;
+    total.cg_iterations += more.cg_iterations;
+    total.softened_steps += more.softened_steps;
+    total.simulated_time += more.simulated_time;
+    total.wall_time += more.wall_time;
+}
+
 /// Runs the chosen solver to equilibrium (or max_steps, or until a callback says stop). With
 /// options.threads > 0, oneTBB and OpenMP run on that many threads during the call; the BLAS on
 /// one; the process-wide counts are restored on return. Threads evaluate the model's local

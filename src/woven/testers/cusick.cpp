@@ -179,15 +179,7 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
         problem.initial = x;
         if (r.stages > 0) solver.perturbation = 0;  // the start's perturbation once
         sim::Result s = sim::drape(problem, solver, progress);
-        if (r.stages > 0) {
-            s.steps += r.drape.steps;
-            s.iterations += r.drape.iterations;
-            s.factorizations += r.drape.factorizations;
-            s.cg_iterations += r.drape.cg_iterations;
-            s.softened_steps += r.drape.softened_steps;
-            s.simulated_time += r.drape.simulated_time;
-            s.wall_time += r.drape.wall_time;
-        }
+        if (r.stages > 0) sim::add_counters(s, r.drape);
         x = s.x;
         r.drape = std::move(s);
         ++r.stages;

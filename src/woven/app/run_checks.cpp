@@ -1,0 +1,149 @@
+#include "woven/app/run_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "woven/app/files.hpp"
+#include "woven/app/resources.hpp"
+#include "woven/common/error.hpp"
+
+namespace woven::app {
+
+namespace {
+
+std::string gb(double bytes)
+{
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g GB", bytes / 1e9);
+    return b;
+}
+
+std::optional<std::string> first_non_finite(const nlohmann::json& j, const std::string& path)
+{
+    if (j.is_null()) return path;
+    if (j.is_number_float() && !std::isfinite(j.get<double>())) return path;
+    if (j.is_object())
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (auto p = first_non_finite(it.value(), path.empty() ? it.key() : path + "." + it.key())) return p;
+    if (j.is_array())
+        for (std::size_t k = 0; k < j.size(); ++k)
+            if (auto p = first_non_finite(j[k], path + "[" + std::to_string(k) + "]")) return p;
+    return std::nullopt;
+}
+
+}  // namespace
+
+ThreadCount choose_threads(int requested)
+{
+    ThreadCount t;
+    t.requested = requested;
+    t.used = threads_to_use(requested);
+    if (requested > t.used)
+        std::cerr << "woven: warning: " << requested << " threads asked for, " << t.used
+                  << " cores available to this process; using " << t.used << "\n";
+    return t;
+}
+
+void check_memory(long long particles, int threads, const std::string& source, const std::string& field)
+{
+    check_memory_estimate(estimate_drape_memory(particles, threads), particles, source, field, "use a smaller grid");
+}
+
+void check_memory_estimate(const MemoryEstimate& e, long long particles, const std::string& source, const std::string& field,
+                           const std::string& advice)
+{
+    check_memory_estimate(e, memory_limit(), memory_available(), particles, source, field, advice);
+}
+
+void check_memory_estimate(const MemoryEstimate& e, const MemoryLimit& limit, double available, long long particles,
+                           const std::string& source, const std::string& field, const std::string& advice)
+{
+    if (limit.bytes > 0) {
+        const double need = limit.virtual_memory ? e.address_space_bytes : e.resident_bytes;
+        if (need > limit.bytes)
+            throw InputError(source, field,
+                             std::to_string(particles) + " particles need about " + gb(need) +
+                                 (limit.virtual_memory ? " of address space" : "") + " (estimate), more than the " +
+                                 gb(limit.bytes) + " of " + limit.what + "; " + advice);
+    }
+    // Within the lasting limits but above what is free at this moment: a runtime failure.
+    if (available > 0 && e.resident_bytes > available)
+        throw RuntimeError("not enough memory now: " + std::to_string(particles) + " particles need about " + gb(e.resident_bytes) +
+                           " (estimate), " + gb(available) + " is available (MemAvailable); run again when memory is free");
+}
+
+void check_output_targets(const std::string& dir, const std::vector<std::string>& names)
+{
+    namespace fs = std::filesystem;
+    for (const auto& n : names) {
+        const fs::path p = fs::path(dir) / n;
+        std::error_code ec;
+        const auto st = fs::symlink_status(p, ec);
+        if (!ec && fs::exists(st) && !fs::is_regular_file(st))
+            throw InputError(kCommandLine, "--out", p.string() + " exists and is not a regular file");
+    }
+}
+
+std::string fabric_source(const std::string& name_or_path)
+{
+    const bool path = name_or_path.find('/') != std::string::npos || name_or_path.ends_with(".toml");
+    return path ? name_or_path : "built-in fabric '" + name_or_path + "'";
+}
+
+void with_fabric_source(const std::string& source, const std::function<void()>& fit)
+{
+    try {
+        fit();
+    } catch (const InputError& e) {
+        if (e.source().rfind("fabric '", 0) != 0 || e.source() == source) throw;
+        const std::string what = e.what();
+        std::string expected = what.substr(std::min(what.size(), e.source().size() + 2));
+        if (!e.field().empty() && expected.rfind(e.field() + ": ", 0) == 0) expected = expected.substr(e.field().size() + 2);
+        throw InputError(source, e.field(), expected);
+    }
+}
+
+void require_finite_positions(const Positions& x, const std::string& what)
+{
+    for (const Vec3& p : x)
+        if (!p.allFinite()) throw RuntimeError(what + " ended with non-finite positions; no outputs written");
+}
+
+void require_finite(const nlohmann::json& report, const std::string& what, const std::vector<std::string>& optional)
+{
+    for (auto it = report.begin(); it != report.end(); ++it) {
+        if (std::find(optional.begin(), optional.end(), it.key()) != optional.end()) continue;
+        if (auto p = first_non_finite(it.value(), it.key()))
+            throw RuntimeError(what + " ended with a non-finite number (" + *p + "); no outputs written");
+    }
+}
+
+void require_finite_csv(const std::string& csv, const std::string& name, const std::string& what)
+{
+    std::size_t pos = csv.find('\n'), line = 1;
+    while (pos != std::string::npos && pos + 1 < csv.size()) {
+        ++line;
+        const std::size_t end = std::min(csv.find('\n', pos + 1), csv.size());
+        std::size_t b = pos + 1;
+        while (b <= end) {
+            std::size_t e = csv.find(',', b);
+            if (e == std::string::npos || e > end) e = end;
+            std::string field = csv.substr(b, e - b);
+            char* stop = nullptr;
+            const double v = std::strtod(field.c_str(), &stop);
+            const bool number = !field.empty() && stop == field.c_str() + field.size();
+            if (number && !std::isfinite(v))
+                throw RuntimeError(what + " ended with a non-finite number (" + name + ", line " + std::to_string(line) +
+                                   "); no outputs written");
+            b = e + 1;
+        }
+        pos = end < csv.size() ? end : std::string::npos;
+    }
+}
+
+}  // namespace woven::app

@@ -1,0 +1,66 @@
+#pragma once
+// Checks a run makes before and after its work (issue 13): threads it can use, memory it will
+// need, an output directory it can write, an error of the fitting stage naming the fabric's
+// file, and no non-finite number in a report.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "woven/app/resources.hpp"
+#include "woven/common/types.hpp"
+
+namespace woven::app {
+
+/// Threads asked for (0: all) and used: min(asked, available_cores()); a request above the
+/// cores available prints a warning (more threads than cores only slows a run down).
+struct ThreadCount {
+    int requested = 0;
+    int used = 1;
+};
+ThreadCount choose_threads(int requested);
+
+/// Refuses (InputError "<source>: <field>: ... needs about X GB ..., more than the Y GB of
+/// <limit>") a drape whose estimated memory exceeds the process's limit.
+void check_memory(long long particles, int threads, const std::string& source, const std::string& field);
+/// The same check for a memory estimate made elsewhere (kes-test's specimens); `advice` ends
+/// the message ("use a larger --sigma-cm").
+void check_memory_estimate(const MemoryEstimate& estimate, long long particles, const std::string& source,
+                           const std::string& field, const std::string& advice);
+/// The check itself, against a lasting `limit` (RLIMIT_AS, cgroup, the machine's memory:
+/// InputError above it, exit 2) and the memory `available` now (0: unknown; RuntimeError "not
+/// enough memory now" above it, exit 1).
+void check_memory_estimate(const MemoryEstimate& estimate, const MemoryLimit& limit, double available, long long particles,
+                           const std::string& source, const std::string& field, const std::string& advice);
+
+/// Each `dir`/name that exists must be a regular file (bad usage otherwise: InputError
+/// "command line: --out: <path> exists and is not a regular file").
+void check_output_targets(const std::string& dir, const std::vector<std::string>& names);
+
+/// Runs `fit` (which fits a fabric's curves); an InputError that names the fabric rather than a
+/// file ("fabric 'probe': ...") is rethrown naming `fabric_source` (its file, or "built-in
+/// fabric 'x'").
+void with_fabric_source(const std::string& fabric_source, const std::function<void()>& fit);
+
+/// The name a fabric's errors carry: the path for a fabric file, "built-in fabric 'x'" else.
+std::string fabric_source(const std::string& name_or_path);
+
+/// Throws RuntimeError("<what> ended with non-finite positions; no outputs written") if any
+/// coordinate of `x` is not finite: called before any output of a drape is staged.
+void require_finite_positions(const Positions& x, const std::string& what);
+
+/// Throws RuntimeError naming the first field of the object `report` that is null or not a
+/// finite number (JSON cannot hold inf/NaN: they are written as null), so that no report with a
+/// non-finite number is ever written, let alone one claiming convergence. Top-level keys in
+/// `optional` may be null (an analysis that does not apply) and are not checked.
+void require_finite(const nlohmann::json& report, const std::string& what,
+                    const std::vector<std::string>& optional = {});
+
+/// Throws RuntimeError("<what> ended with a non-finite number (<name>, line <n>); no outputs
+/// written") if a field of the CSV text `csv` (after its header line) is a non-finite number
+/// (nan, inf, as printf or iostream write them): every table a command writes is checked
+/// before its set is published.
+void require_finite_csv(const std::string& csv, const std::string& name, const std::string& what);
+
+}  // namespace woven::app

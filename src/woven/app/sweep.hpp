@@ -1,0 +1,96 @@
+#pragma once
+// The sweep job (sweep_*.cpp: shard, pool, folder, merge, checks), which `woven sweep` runs and
+// shares with `woven experiment`, `woven report` and the tests: the shard a process runs, the
+// run of a plan's points (resume, verify, jobs), the merge of a sweep folder and the main
+// outputs of a point's manifest.
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "woven/io/sweep_plan.hpp"
+
+namespace woven::app {
+
+/// Shard `index` of `count` (0-based): the points whose index modulo count is index.
+struct ShardSpec {
+    int index = 0;
+    int count = 1;
+    std::string source = "one process";  ///< "--shard", "Open MPI", "PMI", "Slurm array"
+};
+
+/// The shard from --shard I/N (when given), else from the launcher's environment read through
+/// `env` (getenv): OMPI_COMM_WORLD_RANK/SIZE, PMI_RANK/SIZE, SLURM_ARRAY_TASK_ID/COUNT (with
+/// SLURM_ARRAY_TASK_MIN/STEP), else the whole plan. Bad values: InputError naming the option or
+/// the variable.
+ShardSpec shard_from(const std::optional<std::string>& option, const std::function<const char*(const char*)>& env);
+
+/// True when point `point_index` belongs to shard `s`.
+bool in_shard(std::size_t point_index, const ShardSpec& s);
+
+/// The main outputs of a point from its manifest, one flat object per command: drape (energy_J,
+/// max_residual_rel, converged, steps, folds...), cusick (drape_coefficient_percent and _std,
+/// nodes per run, energy_J...), kes-test (each test's simulated and input summary values).
+nlohmann::json point_outputs(const std::string& command, const nlohmann::json& manifest);
+
+struct MergeCounts {
+    std::size_t done = 0, failed = 0, missing = 0;
+};
+
+/// How run_sweep_points runs a plan.
+struct SweepRunOptions {
+    int jobs = 1;     ///< points at once on this machine
+    ShardSpec shard;  ///< the points of this process
+    /// Called as each point's process starts (`woven experiment` prints what it drapes).
+    std::function<void(const io::SweepPoint&)> on_start;
+};
+
+struct SweepRunResult {
+    std::size_t points = 0;       ///< in the plan
+    std::size_t mine = 0;         ///< in this shard
+    std::size_t done_before = 0;  ///< of this shard, complete before the run (resumed)
+    std::size_t to_run = 0;       ///< of this shard, run now
+    int ran = 0, failed = 0;
+    int signal = 0;               ///< SIGINT / SIGTERM that stopped the run (0: none); nothing merged then
+    MergeCounts merged;           ///< the merge at the end
+};
+
+/// `woven sweep`'s run of a plan, the one point loop of woven (`woven sweep` and `woven
+/// experiment` both run their points here): reads every point's overridden scene and fabric
+/// (InputError naming the plan and the point), creates `dir`, takes over SIGINT and SIGTERM,
+/// runs the points of the shard whose folders do not verify (point_complete), `jobs` at once,
+/// each as a child process, and merges sweep.csv / sweep.json. Prints a line before the run and
+/// one per point (stdout).
+SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& dir, const SweepRunOptions& options);
+
+/// The SIGINT / SIGTERM received since run_sweep_points took them over (0: none).
+int sweep_signal_received();
+
+/// Reads each point's overridden scene and fabric with the commands' own readers: a bad value
+/// or a key the file does not have is an InputError naming the plan and the point.
+void validate_sweep_overrides(const io::SweepPlan& plan);
+
+/// True when <dir>/<point name>/ is complete (its manifest's files verify) and its point.json
+/// records the plan's command line for the point: resume skips it.
+bool point_complete(const std::string& dir, const io::SweepPoint& point);
+
+/// An exclusive flock on a folder (a sweep folder, which ranks share) for its lifetime.
+class SweepFolderLock {
+public:
+    explicit SweepFolderLock(const std::string& dir);
+    SweepFolderLock(const SweepFolderLock&) = delete;
+    SweepFolderLock& operator=(const SweepFolderLock&) = delete;
+    ~SweepFolderLock();
+
+private:
+    int fd_ = -1;
+};
+
+/// Writes <dir>/sweep.json and sweep.csv (one row per point of the plan, in plan order) from
+/// the point folders that verify, under an exclusive lock on the folder; idempotent.
+MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& dir);
+
+}  // namespace woven::app

@@ -1,0 +1,200 @@
+// The merge of a sweep folder (sweep.hpp): sweep.json and sweep.csv from the point folders that
+// verify, and the main outputs of a point's manifest.
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "woven/app/sweep.hpp"
+#include "woven/app/sweep_parts.hpp"
+
+namespace woven::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The merged table's output columns in a reading order (others follow, sorted).
+const std::vector<std::string>& preferred_columns()
+{
+    static const std::vector<std::string> c = {"drape_coefficient_percent", "drape_coefficient_std", "nodes", "energy_J", "folds",
+                                               "projected_area_m2", "max_residual_rel", "converged", "steps", "iterations",
+                                               "particles", "tests", "worst_summary_rel_error", "worst_curve_rel_error"};
+    return c;
+}
+
+std::string csv_cell(const nlohmann::json& v)
+{
+    if (v.is_null()) return "";
+    std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+    if (s.find_first_of(",\"\n") != std::string::npos) {
+        std::string q = "\"";
+        for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+        return q + "\"";
+    }
+    return s;
+}
+
+}  // namespace
+
+nlohmann::json point_outputs(const std::string& command, const nlohmann::json& m)
+{
+    nlohmann::json o = nlohmann::json::object();
+    const auto get = [&](const nlohmann::json& j, std::initializer_list<const char*> path) -> nlohmann::json {
+        const nlohmann::json* at = &j;
+        for (const char* k : path) {
+            if (!at->is_object() || !at->contains(k)) return nullptr;
+            at = &(*at)[k];
+        }
+        return *at;
+    };
+    if (command == "drape") {
+        o["energy_J"] = get(m, {"energy", "total_J"});
+        o["max_residual_rel"] = get(m, {"equilibrium", "max_residual_rel"});
+        o["converged"] = get(m, {"converged"});
+        o["steps"] = get(m, {"steps"});
+        o["iterations"] = get(m, {"iterations"});
+        o["particles"] = get(m, {"particles"});
+        // The fold structure: billows per corner and box face ("2+0 2+1 2+1 2+0"), the
+        // corner analysis of the drape (analysis/folds.hpp) when the scene has a box.
+        std::string folds;
+        const auto corners = get(m, {"folds", "corners"});
+        if (corners.is_array())
+            for (const auto& c : corners) {
+                std::string b;
+                if (c.contains("billows") && c["billows"].is_array())
+                    for (const auto& n : c["billows"]) b += (b.empty() ? "" : "+") + n.dump();
+                folds += (folds.empty() ? "" : " ") + b;
+            }
+        o["folds"] = folds.empty() ? nlohmann::json(nullptr) : nlohmann::json(folds);
+        o["projected_area_m2"] = get(m, {"folds", "projected_area_m2"});
+    } else if (command == "cusick") {
+        const bool many = m.contains("drape_coefficient_mean");
+        o["drape_coefficient_percent"] = many ? m["drape_coefficient_mean"] : get(m, {"drape_coefficient_percent"});
+        o["drape_coefficient_std"] = many ? m["drape_coefficient_std"] : nlohmann::json(0.0);
+        std::string nodes;
+        double energy = 0, residual = 0;
+        long steps = 0;
+        bool any = false;
+        if (m.contains("runs") && m["runs"].is_array())
+            for (const auto& r : m["runs"]) {
+                nodes += (nodes.empty() ? "" : " ") + r.value("nodes", nlohmann::json(nullptr)).dump();
+                energy += r.value("energy_J", 0.0) / static_cast<double>(m["runs"].size());
+                residual = std::max(residual, r.value("max_residual_rel", 0.0));
+                steps += r.value("steps", 0L);
+                any = true;
+            }
+        o["nodes"] = nodes;
+        o["energy_J"] = any ? nlohmann::json(energy) : nlohmann::json(nullptr);
+        o["max_residual_rel"] = any ? nlohmann::json(residual) : nlohmann::json(nullptr);
+        o["converged"] = get(m, {"converged"});
+        o["steps"] = any ? nlohmann::json(steps) : nlohmann::json(nullptr);
+        o["particles"] = get(m, {"particles"});
+    } else {
+        double worst_summary = 0, worst_curve = 0;
+        int tests = 0;
+        if (m.contains("tests") && m["tests"].is_array())
+            for (const auto& t : m["tests"]) {
+                ++tests;
+                if (t.contains("summary_rel_error") && t["summary_rel_error"].is_number())
+                    worst_summary = std::max(worst_summary, std::abs(t["summary_rel_error"].get<double>()));
+                if (t.contains("curve_max_rel_error") && t["curve_max_rel_error"].is_number())
+                    worst_curve = std::max(worst_curve, t["curve_max_rel_error"].get<double>());
+                const std::string name = t.value("test", std::string("test")) + "_" + t.value("direction", std::string(""));
+                o[name + "_simulated"] = t.value("simulated_summary", nlohmann::json(nullptr));
+                o[name + "_input"] = t.value("input_summary", nlohmann::json(nullptr));
+            }
+        o["tests"] = tests;
+        o["worst_summary_rel_error"] = worst_summary;
+        o["worst_curve_rel_error"] = worst_curve;
+    }
+    return o;
+}
+
+MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
+{
+    const fs::path sweep(sweep_dir);
+    const SweepFolderLock lock(sweep_dir);
+    MergeCounts counts;
+    nlohmann::json rows = nlohmann::json::array();
+    std::vector<std::string> output_keys;
+    for (std::size_t index = 0; index < plan.size(); ++index) {
+        const io::SweepPoint p = plan.point(index);
+        nlohmann::json row;
+        row["point"] = p.name;
+        row["index"] = p.index;
+        nlohmann::json values = nlohmann::json::object();
+        for (const auto& v : p.values) values[v.key] = value_json(v);
+        row["values"] = values;
+        const PointState st = point_state(sweep, p);
+        if (st.done) {
+            ++counts.done;
+            const auto pj = read_sweep_json(sweep / p.name / "point.json");
+            const auto m = read_manifest(sweep / p.name);
+            row["status"] = "done";
+            row["wall_time_s"] = (*pj)["wall_time_s"];
+            row["host"] = pj->value("host", std::string());
+            row["outputs"] = point_outputs(plan.command, m ? *m : nlohmann::json::object());
+            for (auto it = row["outputs"].begin(); it != row["outputs"].end(); ++it)
+                if (std::find(output_keys.begin(), output_keys.end(), it.key()) == output_keys.end()) output_keys.push_back(it.key());
+        } else if (const auto f = read_sweep_json(sweep / "failed" / (p.name + ".json")); f && f->value("plan", nlohmann::json()) == point_signature(p)) {
+            ++counts.failed;
+            row["status"] = "failed";
+            row["wall_time_s"] = f->value("wall_time_s", nlohmann::json(nullptr));
+            row["problem"] = f->value("problem", std::string());
+        } else {
+            ++counts.missing;
+            row["status"] = "missing";
+            if (!st.problem.empty()) row["problem"] = st.problem;
+        }
+        rows.push_back(row);
+    }
+    nlohmann::json j;
+    j["version"] = WOVEN_VERSION;
+    j["plan"] = plan.source;
+    j["name"] = plan.name;
+    j["description"] = plan.description;
+    j["command"] = plan.command;
+    nlohmann::json axes = nlohmann::json::array();
+    for (const auto& a : plan.axes) {
+        nlohmann::json vals = nlohmann::json::array();
+        for (const auto& v : a.values) vals.push_back(value_json(v));
+        axes.push_back({{"key", a.key}, {"values", vals}});
+    }
+    j["axes"] = axes;
+    j["points"] = plan.size();
+    j["done"] = counts.done;
+    j["failed"] = counts.failed;
+    j["missing"] = counts.missing;
+    j["rows"] = rows;
+    std::vector<std::string> ordered;
+    for (const auto& k : preferred_columns())
+        if (std::find(output_keys.begin(), output_keys.end(), k) != output_keys.end()) ordered.push_back(k);
+    std::sort(output_keys.begin(), output_keys.end());
+    for (const auto& k : output_keys)
+        if (std::find(ordered.begin(), ordered.end(), k) == ordered.end()) ordered.push_back(k);
+    output_keys = ordered;
+    j["output_columns"] = output_keys;
+    std::ostringstream csv;
+    csv << "point";
+    for (const auto& a : plan.axes) csv << "," << csv_cell(a.key);
+    csv << ",status,wall_time_s";
+    for (const auto& k : output_keys) csv << "," << k;
+    csv << "\n";
+    for (const auto& r : rows) {
+        csv << csv_cell(r["point"]);
+        for (const auto& a : plan.axes) csv << "," << csv_cell(r["values"][a.key]);
+        csv << "," << csv_cell(r["status"]) << "," << csv_cell(r.value("wall_time_s", nlohmann::json(nullptr)));
+        for (const auto& k : output_keys) csv << "," << (r.contains("outputs") && r["outputs"].contains(k) ? csv_cell(r["outputs"][k]) : "");
+        csv << "\n";
+    }
+    write_atomic(sweep / "sweep.json", j.dump(2) + "\n");
+    write_atomic(sweep / "sweep.csv", csv.str());
+    return counts;
+}
+
+}  // namespace woven::app
