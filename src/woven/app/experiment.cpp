@@ -1,0 +1,884 @@
+// The experiment job (experiment.hpp; woven experiment cube|map|figure1): the paper's
+// experiments (Sec. 6, Fig. 1, Fig. 8), drawn and measured. Each experiment's drapes are a sweep plan (examples/experiment-cube.toml, ...)
+// written into its sweep folder (--sweep, default out/experiment-<name>) and run there by the
+// sweep's own point loop (run_sweep_points: resume, verify, --jobs, ranks); the experiment then
+// reads each point's report.json and drape.obj back and writes pictures, tables (Markdown) and
+// the raw numbers (JSON) into --out.
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "woven/analysis/folds.hpp"
+#include "woven/app/drape_report.hpp"
+#include "woven/app/experiment.hpp"
+#include "woven/app/files.hpp"
+#include "woven/app/material.hpp"
+#include "woven/app/progress.hpp"
+#include "woven/app/run_checks.hpp"
+#include "woven/app/scene_view.hpp"
+#include "woven/app/sweep.hpp"
+#include "woven/common/error.hpp"
+#include "woven/io/corner_map_file.hpp"
+#include "woven/io/fabric_file.hpp"
+#include "woven/io/input_file.hpp"
+#include "woven/io/mesh_file.hpp"
+#include "woven/io/output.hpp"
+#include "woven/io/output_file.hpp"
+#include "woven/io/output_set.hpp"
+#include "woven/io/scene_file.hpp"
+#include "woven/io/sweep_plan.hpp"
+#include "woven/render/drape_view.hpp"
+#include "woven/render/figure.hpp"
+#include "woven/render/glyphs.hpp"
+
+namespace woven::app {
+
+namespace {
+
+/// A corner's structure, read from the section 0.10 m below the top (the first depth).
+enum class Structure { NONE, SINGLE_DIAGONAL, SINGLE_OFFSET, MULTIPLE };
+/// A single billow within this angle of the corner's diagonal leaves it "at 45 degrees" (deg).
+constexpr double kDiagonalToleranceDeg = 15;
+/// Billows further than this from the diagonal (deg) stand well in front of a side (45 deg is
+/// the side's normal): a wave of the side's panel, not a fold leaving the corner; the structure
+/// counts only the others. On the cube the side waves sit at 99-132 deg, the corner folds
+/// within 70 deg (corner_map.md): 80 separates them.
+constexpr double kCornerConeDeg = 80;
+
+const char* structure_name(Structure s)
+{
+    switch (s) {
+    case Structure::NONE: return "none";
+    case Structure::SINGLE_DIAGONAL: return "single, on the diagonal";
+    case Structure::SINGLE_OFFSET: return "single, off the diagonal";
+    case Structure::MULTIPLE: return "two or more folds";
+    }
+    return "";
+}
+
+/// The billows of a corner that leave it (within kCornerConeDeg of its diagonal).
+std::vector<analysis::Billow> leaving(const std::vector<analysis::Billow>& all)
+{
+    std::vector<analysis::Billow> out;
+    for (const auto& b : all)
+        if (std::abs(b.angle_deg) <= kCornerConeDeg) out.push_back(b);
+    return out;
+}
+
+Structure classify(const std::vector<analysis::Billow>& all)
+{
+    const std::vector<analysis::Billow> billows = leaving(all);
+    if (billows.empty()) return Structure::NONE;
+    if (billows.size() > 1) return Structure::MULTIPLE;
+    return std::abs(billows[0].angle_deg) <= kDiagonalToleranceDeg ? Structure::SINGLE_DIAGONAL : Structure::SINGLE_OFFSET;
+}
+
+
+std::string which_name(const ExperimentRequest& o) { return name_of(kExperimentNames, o.which); }
+
+/// Thrown when SIGINT or SIGTERM stopped the drapes or the experiment before it published: it
+/// ends without publishing, so its folder keeps the previous complete set.
+struct ExperimentInterrupted {
+    int signal = 0;  ///< 0: drape's interrupt flag (interrupted_exit_code)
+};
+
+/// The experiment's JSON (its set's manifest) holds finite numbers only; a drape's `folds` may
+/// be null where the scene has no box to analyse. RuntimeError (exit 1, nothing published) else.
+void require_finite_experiment(nlohmann::json j, const std::string& what)
+{
+    std::function<void(nlohmann::json&)> strip = [&strip](nlohmann::json& v) {
+        if (v.is_object()) {
+            if (v.contains("folds") && v["folds"].is_null()) v.erase("folds");
+            for (auto& e : v) strip(e);
+        } else if (v.is_array()) {
+            for (auto& e : v) strip(e);
+        }
+    };
+    strip(j);
+    require_finite(j, what);
+}
+
+/// One drape and what it measured, read back from its point folder in the sweep.
+struct Outcome {
+    std::string fabric;
+    std::uint64_t seed = 0;
+    Positions x;  ///< from drape.obj (9 significant digits); empty unless asked for
+    model::Grid grid;
+    bool converged = false;
+    int steps = 0;
+    double wall_s = 0;
+    double energy_J = 0;
+    nlohmann::json folds;  ///< the drape's report.json `folds` (null: no box to analyse)
+    /// The billows of each section (0.10 m, 0.20 m below the top) at each corner, from `folds`.
+    std::vector<std::array<std::vector<analysis::Billow>, 4>> sections;
+    bool has_folds() const { return !folds.is_null(); }
+};
+
+
+/// The drape of `point` in `sweep_dir` (a complete point folder: run_sweep_points verified it):
+/// its report.json, and with `positions` its particles from drape.obj. RuntimeError when the
+/// folder does not hold a drape's report of the form written by `woven drape`.
+Outcome read_outcome(const std::string& sweep_dir, const io::SweepPoint& point, const std::string& fabric_label, bool positions)
+{
+    const std::string dir = join_path(sweep_dir, point.name);
+    const std::string path = join_path(dir, "report.json");
+    Outcome d;
+    d.fabric = fabric_label;
+    try {
+        const nlohmann::json r = io::read_output_json(path, io::kMaxManifestBytes, "a drape's report.json");
+        d.seed = r.at("seed").get<std::uint64_t>();
+        d.converged = r.at("converged").get<bool>();
+        d.steps = r.at("steps").get<int>();
+        d.wall_s = r.at("wall_time_s").get<double>();
+        d.energy_J = r.at("energy").at("total_J").get<double>();
+        d.grid.nu = r.at("grid").at(0).get<int>();
+        d.grid.nv = r.at("grid").at(1).get<int>();
+        d.folds = r.at("folds");
+        if (d.has_folds()) {
+            const std::size_t n = r["folds"].at("sections").size();
+            d.sections.resize(n);
+            for (const auto& corner : d.folds.at("corners")) {
+                const int c = corner.at("corner").get<int>();
+                if (c < 0 || c > 3) throw RuntimeError(path + ": folds.corners: a corner outside 0 .. 3");
+                for (std::size_t s = 0; s < n; ++s) {
+                    const auto& angles = corner.at("angles_deg").at(s);
+                    const auto& standout = corner.at("standout_m").at(s);
+                    for (std::size_t b = 0; b < angles.size(); ++b) {
+                        analysis::Billow billow;
+                        billow.corner = c;
+                        billow.angle_deg = angles.at(b).get<double>();
+                        billow.standout_m = standout.at(b).get<double>();
+                        d.sections[s][c].push_back(billow);
+                    }
+                }
+            }
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw RuntimeError(path + ": not a drape's report.json (" + e.what() + ")");
+    }
+    if (positions) {
+        const std::string obj = join_path(dir, "drape.obj");
+        const geometry::TriangleMesh mesh = io::load_obj_mesh(obj);
+        if (static_cast<long long>(mesh.vertices.size()) != static_cast<long long>(d.grid.nu) * d.grid.nv)
+            throw RuntimeError(obj + ": " + std::to_string(mesh.vertices.size()) + " vertices, expected the report's grid " +
+                               std::to_string(d.grid.nu) + " x " + std::to_string(d.grid.nv));
+        d.x.assign(mesh.vertices.begin(), mesh.vertices.end());
+    }
+    return d;
+}
+
+/// Writes `text` to `path` (through a temporary and a rename) unless the file holds it already.
+void write_if_changed(const std::string& path, const std::string& text)
+{
+    namespace fs = std::filesystem;
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (in) {
+            std::ostringstream s;
+            s << in.rdbuf();
+            if (s.str() == text) return;
+        }
+    }
+    const fs::path target(path);
+    const fs::path tmp = target.parent_path() / (".woven-tmp." + std::to_string(::getpid()) + "." + target.filename().string());
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out) throw RuntimeError(path + ": cannot write: " + std::strerror(errno));
+    }
+    std::error_code ec;
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw RuntimeError(path + ": cannot move into place: " + ec.message());
+    }
+}
+
+/// The plan's head: its name, description and command (every experiment drapes).
+std::string plan_head(const std::string& which, const std::string& description)
+{
+    return "# The drapes of `woven experiment " + which +
+           "` (docs/EXPERIMENTS.md) as a sweep plan (docs/SWEEP-FORMAT.md): the experiment\n"
+           "# writes it into its sweep folder, runs it there and builds its figures and tables from the points.\n"
+           "name = \"experiment-" + which + "\"\ndescription = \"" + description + "\"\ncommand = \"drape\"\n";
+}
+
+/// The plan's [options]: `scene` and `seed` when not an axis, the experiment's --grid and --threads.
+std::string plan_options(const ExperimentRequest& o, bool scene_cube, bool seed_one)
+{
+    std::string t = "\n[options]\n";
+    if (scene_cube) t += "scene = \"cube\"\n";
+    if (seed_one) t += "seed = 1\n";
+    if (o.grid) t += "grid = " + std::to_string(*o.grid) + "\n";
+    t += "threads = " + std::to_string(o.threads) + "\n";
+    t += "render = false  # the experiment draws its own pictures from drape.obj\n";
+    return t;
+}
+
+/// A plan run for an experiment: the plan, or none when this process builds nothing (--plan-only,
+/// or a rank whose points are done while another rank's still run).
+struct PlanRun {
+    std::optional<io::SweepPlan> plan;
+    std::string dir;
+    std::string message;  ///< without a plan: what the command prints
+};
+
+/// The sweep folder, --jobs and the shard, checked before anything is written.
+struct SweepPlace {
+    std::string dir;
+    SweepRunOptions run;
+};
+
+SweepPlace sweep_place(const ExperimentRequest& o)
+{
+    SweepPlace p;
+    if (o.sweep && o.sweep->empty()) throw InputError(kCommandLine, "--sweep", "expected a directory path, got an empty string");
+    p.dir = o.sweep ? o.sweep->string() : join_path("out", "experiment-" + which_name(o));
+    p.run.jobs = static_cast<int>(integer_in_range(o.jobs, "--jobs", 1, 4096));
+    p.run.shard = o.shard;
+    return p;
+}
+
+/// Writes `plan_text` as <sweep>/plan.toml and `files` (paths relative to the sweep folder)
+/// where they differ, reads the plan back as `woven sweep` reads it, and (unless --plan-only)
+/// runs it with run_sweep_points: the points of this shard whose folders do not verify run,
+/// each announced on stderr as "woven: experiment: <what> ..." (`what`: one per point, in plan
+/// order). SIGINT/SIGTERM: ExperimentInterrupted; a failed point: RuntimeError.
+PlanRun run_experiment_plan(const ExperimentRequest& o, SweepPlace place, const std::string& plan_text,
+                            const std::vector<std::pair<std::string, std::string>>& files, const std::vector<std::string>& what)
+{
+    PlanRun r;
+    r.dir = place.dir;
+    make_output_dir(r.dir);
+    for (const auto& [name, text] : files) {
+        std::filesystem::create_directories(std::filesystem::path(join_path(r.dir, name)).parent_path());
+        write_if_changed(join_path(r.dir, name), text);
+    }
+    const std::string plan_path = join_path(r.dir, "plan.toml");
+    write_if_changed(plan_path, plan_text);
+    std::vector<std::string> warnings;
+    io::SweepPlan plan = io::load_sweep_plan(plan_path, &warnings);
+    if (o.on_warnings) o.on_warnings(warnings);
+    if (plan.size() != what.size()) throw RuntimeError(plan_path + ": " + std::to_string(plan.size()) + " points, expected " + std::to_string(what.size()));
+    if (o.plan_only) {
+        r.message = "wrote " + plan_path + " (" + std::to_string(plan.size()) + " drapes); run it with `woven sweep " + plan_path + " --out " +
+                    r.dir + "`, then `woven experiment " + which_name(o) + " --sweep " + r.dir + "` builds the figures and tables from it";
+        return r;
+    }
+    place.run.on_start = [&what, &o](const io::SweepPoint& p) {
+        if (o.on_drape) o.on_drape(what[p.index]);
+    };
+    const SweepRunResult res = run_sweep_points(plan, r.dir, place.run);
+    if (res.signal != 0) throw ExperimentInterrupted{res.signal};
+    if (res.merged.done < plan.size()) {
+        if (res.failed == 0 && place.run.shard.count > 1) {
+            r.message = "experiment " + which_name(o) + ": this shard's drapes are done, " + std::to_string(res.merged.done) + " of " +
+                        std::to_string(plan.size()) + " in all; the rank that finds every drape done writes the figures and tables (or run " +
+                        "`woven experiment " + which_name(o) + " --sweep " + r.dir + "` once they are)";
+            return r;
+        }
+        throw RuntimeError("experiment " + which_name(o) + ": " + std::to_string(res.merged.failed) + " of " + std::to_string(plan.size()) +
+                           " drapes failed and " + std::to_string(res.merged.missing) + " are missing (see " + join_path(r.dir, "failed") +
+                           "/); nothing written; run it again to retry them");
+    }
+    r.plan = std::move(plan);
+    return r;
+}
+
+/// Stops before publishing when SIGINT or SIGTERM came after the drapes.
+void check_not_interrupted()
+{
+    if (const int sig = sweep_signal_received()) throw ExperimentInterrupted{sig};
+}
+
+render::DrapeScene drape_scene(const Outcome& d, const io::SceneSpec& scene, const kes::FabricData& fabric)
+{
+    return scene_view(render::grid_surface(d.x, d.grid.nu, d.grid.nv), scene.obstacles, fabric, &scene.camera);
+}
+
+render::Image picture(const render::DrapeScene& ds, render::View view, int w, int h, const std::string& what)
+{
+    return render_view(ds, view, w, h, what);
+}
+
+std::string fmt(const char* f, double v)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+/// "1 (+49)" / "2 (-21, +19)" / "0" for one corner at one depth.
+std::string corner_cell(const std::vector<analysis::Billow>& b)
+{
+    std::string s = std::to_string(b.size());
+    if (b.empty()) return s;
+    s += " (";
+    for (std::size_t k = 0; k < b.size(); ++k) s += (k ? ", " : "") + fmt("%+.0f", b[k].angle_deg);
+    return s + ")";
+}
+
+std::string provenance(const std::string& command) { return std::string("Made by `") + command + "` (woven " + WOVEN_VERSION + ")."; }
+
+nlohmann::json outcome_json(const Outcome& d)
+{
+    nlohmann::json j{{"fabric", d.fabric}, {"seed", d.seed},     {"converged", d.converged},
+                     {"steps", d.steps},   {"wall_s", d.wall_s}, {"energy_J", d.energy_J}};
+    j["folds"] = d.folds;
+    return j;
+}
+
+// ---------------------------------------------------------------------------------------------
+// woven experiment cube
+
+std::string run_cube(const ExperimentRequest& o)
+{
+    const std::string out_dir = o.out.string();
+    std::vector<std::string> warnings;
+    (void)io::find_scene("cube", &warnings);  // warnings once
+    std::vector<kes::FabricData> fabrics;
+    for (const auto& f : o.fabrics) fabrics.push_back(io::find_fabric(f, &warnings));
+    if (o.on_warnings) o.on_warnings(warnings);
+    const SweepPlace place = sweep_place(o);
+    if (!o.plan_only) {
+        make_output_dir(out_dir);
+        check_output_targets(out_dir, {"cube_figure.png", "cube_folds.md", "cube_results.json"});
+    }
+
+    // The drapes: a plan of fabric x seed over the cube (examples/experiment-cube.toml).
+    std::string plan = plan_head("cube", "The cube experiment (Sec. 6, Fig. 8): cotton, wool and polyester/cotton over the 0.5 m cube, seeds 1.." +
+                                             std::to_string(o.seeds)) +
+        "\n[axes]\nfabric = [";
+    std::vector<std::string> what;
+    for (std::size_t f = 0; f < o.fabrics.size(); ++f) {
+        plan += (f ? ", \"" : "\"") + o.fabrics[f] + "\"";
+        for (int s = 1; s <= o.seeds; ++s) what.push_back("cube, " + o.fabrics[f] + ", seed " + std::to_string(s));
+    }
+    plan += "]\nseed = {from = 1, to = " + std::to_string(o.seeds) + "}\n" + plan_options(o, true, false);
+    const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
+    if (!pr.plan) return pr.message;
+    const SweepFolderLock lock(pr.dir);  // ranks that find every drape done build one after another
+    const std::vector<io::SweepPoint> points = pr.plan->points();
+    io::OutputSet set(out_dir, {"cube_figure.png", "cube_folds.md"});
+
+    std::vector<std::vector<Outcome>> runs(fabrics.size());
+    std::vector<io::SceneSpec> scenes;
+    std::size_t k = 0;
+    for (std::size_t f = 0; f < fabrics.size(); ++f) {
+        scenes.push_back(io::find_scene("cube"));
+        for (int s = 1; s <= o.seeds; ++s) runs[f].push_back(read_outcome(pr.dir, points[k++], o.fabrics[f], s == 1));
+    }
+
+    // The figure: one column per fabric (seed 1), rows corner, side, top.
+    const int pw = 480, ph = 360, label_h = 40, margin_l = 90;
+    const std::vector<std::pair<render::View, std::string>> rows = {
+        {render::View::CORNER, "corner"}, {render::View::SIDE, "side"}, {render::View::TOP, "top"}};
+    render::Image fig = render::blank(margin_l + pw * static_cast<int>(fabrics.size()), label_h + ph * 3 + 30);
+    Activity figure_word("drawing the figure's pictures");
+    for (std::size_t f = 0; f < fabrics.size(); ++f) {
+        const render::DrapeScene ds = drape_scene(runs[f][0], scenes[f], fabrics[f]);
+        const int x0 = margin_l + pw * static_cast<int>(f);
+        render::draw_label(fig, o.fabrics[f], x0 + (pw - render::label_width(o.fabrics[f], 3)) / 2, 10, 3);
+        for (std::size_t r = 0; r < rows.size(); ++r) {
+            figure_word.update(static_cast<double>(f * rows.size() + r) / static_cast<double>(fabrics.size() * rows.size()),
+                               o.fabrics[f] + ", " + rows[r].second);
+            render::paste(fig, picture(ds, rows[r].first, pw, ph, o.fabrics[f] + " " + rows[r].second), x0,
+                          label_h + ph * static_cast<int>(r));
+            if (f == 0) render::draw_label(fig, rows[r].second, 10, label_h + ph * static_cast<int>(r) + ph / 2 - 7, 3);
+        }
+    }
+    const std::string note = "seed 1 of each; " + std::string("woven ") + WOVEN_VERSION;
+    render::draw_label(fig, note, margin_l, label_h + ph * 3 + 8, 2, Vec3(0.3, 0.3, 0.3));
+    set.add("cube_figure.png", render::encode_png(fig, join_path(out_dir, "cube_figure.png")));
+
+    // The fold table and the per-seed statistics.
+    const auto& depths = analysis::FoldOptions{}.depths_m;
+    std::ostringstream md;
+    md << "# The cube experiment: corner folds\n\n" << provenance(o.command) << "\n\n";
+    md << "The paper's Sec. 6: 1 m x 1 m cloth, " << runs[0][0].grid.nu << " x " << runs[0][0].grid.nv
+       << " particles, over a 0.5 m cube; seeds 1.." << o.seeds << ". Each cell: billows leaving the corner on the section "
+       << fmt("%.2f", depths[0]) << " m below the top face, then on the one " << fmt("%.2f", depths[1])
+       << " m below, with each billow's direction from the corner's diagonal (degrees, counter-clockwise seen from above). "
+       << "Corners: 0 (+x +y), 1 (-x +y), 2 (-x -y), 3 (+x -y); warp threads run along y, weft along x.\n\n";
+    md << "| fabric | seed | converged | corner 0 | corner 1 | corner 2 | corner 3 |\n|---|---|---|---|---|---|---|\n";
+    nlohmann::json all = nlohmann::json::array();
+    for (std::size_t f = 0; f < fabrics.size(); ++f)
+        for (const Outcome& d : runs[f]) {
+            all.push_back(outcome_json(d));
+            md << "| " << d.fabric << " | " << d.seed << " | " << (d.converged ? "yes" : "no") << " |";
+            for (int c = 0; c < 4; ++c) {
+                md << " ";
+                for (std::size_t h = 0; h < d.sections.size(); ++h) md << (h ? " / " : "") << corner_cell(d.sections[h][c]);
+                md << " |";
+            }
+            md << "\n";
+        }
+    md << "\n## How often each corner structure appears\n\nOver all seeds and the four corners, on the section " << fmt("%.2f", depths[0])
+       << " m below the top. Only billows within " << fmt("%.0f", kCornerConeDeg)
+       << " degrees of the corner's diagonal count as leaving the corner (further round a billow stands in front of a side: "
+       << "a wave of the side's panel); a single one counts as on the diagonal within " << fmt("%.0f", kDiagonalToleranceDeg)
+       << " degrees of it:\n\n";
+    md << "| fabric | corners | single, on the diagonal | single, off the diagonal | two or more folds | none | mean angle of single "
+          "billows (deg) | mean abs angle (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
+    nlohmann::json stats = nlohmann::json::object();
+    for (std::size_t f = 0; f < fabrics.size(); ++f) {
+        std::map<Structure, int> count;
+        double sum = 0, sum_abs = 0;
+        int singles = 0, corners = 0;
+        std::vector<double> energies;
+        for (const Outcome& d : runs[f]) {
+            energies.push_back(d.energy_J);
+            if (!d.has_folds() || d.sections.empty()) continue;
+            for (int c = 0; c < 4; ++c) {
+                const auto b = leaving(d.sections[0][c]);
+                ++count[classify(b)];
+                ++corners;
+                if (b.size() == 1) {
+                    sum += b[0].angle_deg;
+                    sum_abs += std::abs(b[0].angle_deg);
+                    ++singles;
+                }
+            }
+        }
+        std::sort(energies.begin(), energies.end());
+        int distinct = energies.empty() ? 0 : 1;
+        for (std::size_t k = 1; k < energies.size(); ++k)
+            if (energies[k] - energies[k - 1] > 1e-9 * std::abs(energies[k])) ++distinct;
+        auto pct = [&](Structure s) { return corners ? fmt("%.0f %%", 100.0 * count[s] / corners) : std::string("-"); };
+        md << "| " << o.fabrics[f] << " | " << corners << " | " << pct(Structure::SINGLE_DIAGONAL) << " | " << pct(Structure::SINGLE_OFFSET)
+           << " | " << pct(Structure::MULTIPLE) << " | " << pct(Structure::NONE) << " | " << (singles ? fmt("%+.1f", sum / singles) : "-")
+           << " | " << (singles ? fmt("%.1f", sum_abs / singles) : "-") << " | " << distinct << " of " << energies.size() << " |\n";
+        stats[o.fabrics[f]] = {{"corners", corners},
+                               {"single_diagonal", count[Structure::SINGLE_DIAGONAL]},
+                               {"single_offset", count[Structure::SINGLE_OFFSET]},
+                               {"multiple", count[Structure::MULTIPLE]},
+                               {"none", count[Structure::NONE]},
+                               {"distinct_drapes", distinct}};
+    }
+    md << "\n\"distinct drapes\": seeds whose final energies differ (by more than 1e-9 relative); with a "
+          "symmetric start and no perturbation every seed gives the same drape.\n\n![cube figure](cube_figure.png)\n";
+    set.add("cube_folds.md", md.str());
+    nlohmann::json j{{"command", o.command},
+                     {"version", WOVEN_VERSION},
+                     {"runs", all},
+                     {"statistics", stats},
+                     {"diagonal_tolerance_deg", kDiagonalToleranceDeg},
+                     {"corner_cone_deg", kCornerConeDeg}};
+    require_finite_experiment(j, "experiment cube");
+    check_not_interrupted();
+    j["files"] = set.files_json();
+    set.publish("cube_results.json", j.dump(1) + "\n");
+    return "wrote " + join_path(out_dir, "cube_figure.png") + ", cube_folds.md, cube_results.json";
+}
+
+// ---------------------------------------------------------------------------------------------
+// woven experiment map
+
+/// A synthetic fabric: the cotton's W and shear, bending from the Peirce bending length
+/// c = (B / W)^(1/3) of the geometric-mean rigidity B = sqrt(B_warp B_weft) and the ratio
+/// B_warp / B_weft; 2HB half of B (gf.cm/cm per gf.cm^2/cm, cotton's order).
+std::string synthetic_fabric(double ratio, double length_cm, double W_mg_cm2, double G)
+{
+    const double W_gf_cm2 = W_mg_cm2 * 1e-3;
+    const double B = length_cm * length_cm * length_cm * W_gf_cm2;
+    const double bw = B * std::sqrt(ratio), bf = B / std::sqrt(ratio);
+    std::ostringstream t;
+    t.precision(6);
+    t << "name = \"map\"\nsource = \"synthetic: woven experiment map\"\n";
+    t << "areal_density_mg_cm2 = " << W_mg_cm2 << "\n";
+    t << "[bending.warp]\nB = " << bw << "\n2HB = " << 0.5 * bw << "\n";
+    t << "[bending.weft]\nB = " << bf << "\n2HB = " << 0.5 * bf << "\n";
+    t << "[shear]\nG = " << G << "\n2HG = " << 1.5 * G << "\n2HG5 = " << 2.25 * G << "\n";
+    return t.str();
+}
+
+/// (bending length cm, warp/weft ratio) of a fabric, from its KES values.
+std::pair<double, double> map_position(const kes::FabricData& f)
+{
+    const KesValues v = kes_values(f);
+    const double B = std::sqrt(v.B_warp * v.B_weft);
+    return {std::cbrt(B / (v.W * 1e-3)), v.B_warp / v.B_weft};
+}
+
+/// One cell of the corner map (a synthetic fabric over the cube).
+struct MapCell {
+    double ratio, length;
+    bool converged = false;
+    double mean_billows = 0, mean_abs_angle = 0;
+    Structure majority = Structure::NONE;
+    std::vector<std::vector<analysis::Billow>> corners;
+};
+
+/// One cell of the corner map: its drape's corners (the billows of each on the first section)
+/// read as the structure most of them show, the mean count of billows leaving a corner and the
+/// mean |angle| of single ones.
+MapCell analyse_cell(double r, double c, bool converged, bool has_folds, const std::vector<std::vector<analysis::Billow>>& corner_billows)
+{
+    MapCell cell;
+    cell.ratio = r;
+    cell.length = c;
+    cell.converged = converged;
+    std::map<Structure, int> count;
+    int singles = 0;
+    if (has_folds)
+        for (int k = 0; k < 4; ++k) {
+            const auto all = corner_billows[k];
+            const auto b = leaving(all);
+            cell.corners.push_back(all);
+            cell.mean_billows += b.size() / 4.0;
+            ++count[classify(b)];
+            if (b.size() == 1) {
+                cell.mean_abs_angle += std::abs(b[0].angle_deg);
+                ++singles;
+            }
+        }
+    if (singles) cell.mean_abs_angle /= singles;
+    int best = -1;
+    for (const auto& [s, n] : count)
+        if (n > best) {
+            best = n;
+            cell.majority = s;
+        }
+    return cell;
+}
+
+/// corner_map.png: a cell per fabric, coloured by the majority structure; the paper's fabrics
+/// (`paper`, named `names`) marked where their bending length and ratio put them.
+render::Image map_picture(const std::vector<MapCell>& cells, const std::vector<double>& ratios, const std::vector<double>& lengths,
+                          const std::vector<kes::FabricData>& paper, const std::vector<std::string>& names)
+{
+    const int nr = static_cast<int>(ratios.size()), nc = static_cast<int>(lengths.size());
+    const int cw = 190, ch = 110, left = 120, top = 60, bottom = 150;
+    render::Image img = render::blank(left + cw * nc + 30, top + ch * nr + bottom);
+    const std::map<Structure, Vec3> colour = {{Structure::SINGLE_DIAGONAL, Vec3(0.55, 0.80, 0.55)},
+                                              {Structure::SINGLE_OFFSET, Vec3(0.96, 0.72, 0.45)},
+                                              {Structure::MULTIPLE, Vec3(0.55, 0.68, 0.90)},
+                                              {Structure::NONE, Vec3(0.85, 0.85, 0.85)}};
+    render::draw_label(img, "Corner structure over the cube, 0.10 m below its top", left, 15, 2);
+    // Placement without overprint: a cell's text sits at its top, or at its bottom when a fabric's
+    // mark falls on the top; a mark's name goes right of its dot, else left, below or above,
+    // wherever it covers no cell text and no other mark.
+    struct Box {
+        int x0, y0, x1, y1;
+        bool hits(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+    };
+    const auto text_box = [](const std::string& t, int x, int y) {  // with a 3 px margin
+        Box b{x - 3, y - 3, x, y};
+        for (const auto& g : render::detail::glyph_boxes(t)) {
+            b.x1 = std::max(b.x1, x + static_cast<int>(std::ceil(g.x1 * 2)) + 3);
+            b.y1 = std::max(b.y1, y + static_cast<int>(std::ceil(g.y1 * 2)) + 3);
+        }
+        return b;
+    };
+    struct Mark {
+        double px, py;
+        std::string name;
+        Box dot;
+    };
+    std::vector<Mark> marks;
+    for (std::size_t f = 0; f < paper.size(); ++f) {
+        // x linear in the bending length between cell centres, y linear in log2(ratio).
+        const auto [len, ratio] = map_position(paper[f]);
+        const double fx = (len - lengths.front()) / (lengths.back() - lengths.front());
+        const double fy = (std::log2(ratio) - std::log2(ratios.front())) / (std::log2(ratios.back()) - std::log2(ratios.front()));
+        const double px = left + cw / 2.0 + fx * cw * (nc - 1), py = top + ch / 2.0 + (1 - fy) * ch * (nr - 1);
+        marks.push_back({px, py, names[f], Box{static_cast<int>(px) - 9, static_cast<int>(py) - 9, static_cast<int>(px) + 9, static_cast<int>(py) + 9}});
+    }
+    std::vector<Box> taken;
+    for (const Mark& m : marks) taken.push_back(m.dot);
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+        const MapCell& c = cells[k];
+        const int ri = static_cast<int>(k) / nc, ci = static_cast<int>(k) % nc;
+        const int x0 = left + ci * cw, y0 = top + (nr - 1 - ri) * ch;  // ratio grows upwards
+        render::fill_rect(img, x0 + 2, y0 + 2, x0 + cw - 2, y0 + ch - 2, colour.at(c.majority));
+        std::string t = fmt("billows %.2f", c.mean_billows) + "\n"
+            + (c.mean_abs_angle > 0 ? fmt("%.0f deg off", c.mean_abs_angle) : std::string("")) + (c.converged ? "" : "\nnot converged");
+        Box b = text_box(t, x0 + 10, y0 + 10);
+        const auto on_a_mark = [&](const Box& box) {
+            return std::any_of(marks.begin(), marks.end(), [&](const Mark& m) { return m.dot.hits(box); });
+        };
+        if (on_a_mark(b)) {
+            const Box low = text_box(t, x0 + 10, y0 + ch - 4 - (b.y1 - b.y0));
+            if (!on_a_mark(low)) b = low;
+        }
+        render::draw_label(img, t, b.x0 + 3, b.y0 + 3, 2);
+        taken.push_back(b);
+    }
+    for (const Mark& m : marks) {
+        const int w = render::label_width(m.name, 2), x = static_cast<int>(m.px), y = static_cast<int>(m.py);
+        const Box candidates[] = {{x + 11, y - 9, x + 14 + w, y + 9}, {x - 14 - w, y - 9, x - 11, y + 9},
+                                  {x - w / 2 - 3, y + 11, x + w / 2 + 3, y + 29}, {x - w / 2 - 3, y - 29, x + w / 2 + 3, y - 11}};
+        Box label = candidates[0];
+        for (const Box& cand : candidates)
+            if (std::none_of(taken.begin(), taken.end(), [&](const Box& t) { return t.hits(cand) && !(t.x0 == m.dot.x0 && t.y0 == m.dot.y0); })) {
+                label = cand;
+                break;
+            }
+        taken.push_back(label);
+        render::fill_rect(img, label.x0, label.y0, label.x1, label.y1, Vec3(1, 1, 1), 0.85);
+        render::fill_disc(img, m.px, m.py, 7, Vec3(0, 0, 0));
+        render::draw_label(img, m.name, label.x0 + 3, label.y0 + 3, 2);
+    }
+    for (std::size_t f = 0; f < paper.size(); ++f) {
+        const Mark& m = marks[f];
+        render::fill_disc(img, m.px, m.py, 4.5, render::fabric_color(paper[f].color).array().pow(1 / 2.2).matrix());
+    }
+    for (int ri = 0; ri < nr; ++ri) render::draw_label(img, fmt("%.3g", ratios[ri]), 20, top + (nr - 1 - ri) * ch + ch / 2 - 7, 2);
+    for (int ci = 0; ci < nc; ++ci)
+        render::draw_label(img, fmt("%.2g cm", lengths[ci]), left + ci * cw + cw / 2 - 25, top + nr * ch + 8, 2);
+    render::draw_label(img, "warp/weft", 10, top - 25, 2);
+    render::draw_label(img, "bending length c = (B/W)^(1/3), B = sqrt(B_warp B_weft)", left, top + nr * ch + 30, 2);
+    int ly = top + nr * ch + 60, lx = left;
+    for (Structure s : {Structure::SINGLE_DIAGONAL, Structure::SINGLE_OFFSET, Structure::MULTIPLE, Structure::NONE}) {
+        render::fill_rect(img, lx, ly, lx + 20, ly + 14, colour.at(s));
+        render::draw_label(img, structure_name(s), lx + 26, ly, 2);
+        lx += 40 + render::label_width(structure_name(s), 2);
+        if (lx > left + cw * nc - 200) {
+            lx = left;
+            ly += 24;
+        }
+    }
+    render::draw_label(img, std::string("woven ") + WOVEN_VERSION + "; W, G of cotton", left, top + nr * ch + bottom - 30, 2,
+                       Vec3(0.3, 0.3, 0.3));
+    return img;
+}
+
+/// corner_map.md: the cells' table and the paper's fabrics on the map.
+std::string map_markdown(const ExperimentRequest& o, const std::vector<MapCell>& cells, const std::vector<kes::FabricData>& paper,
+                         const KesValues& cv, const std::optional<io::CornerMap>& reused)
+{
+    std::ostringstream md;
+    md << "# Corner-structure map\n\n" << provenance(o.command) << "\n\n";
+    if (o.reuse)
+        md << "The drapes are those of `" << (reused->command.empty() ? "?" : reused->command) << "` (woven "
+           << (reused->version.empty() ? "?" : reused->version) << "), read back from its corner_map.json and analysed again.\n\n";
+    md << "Synthetic fabrics with the cotton's W (" << cv.W << " mg/cm2) and shear (G " << cv.G
+       << " gf/(cm.deg)), bending from the bending length c and the warp/weft ratio; one drape each (seed 1) over the cube, "
+       << "section 0.10 m below the top. Cell: the structure most corners show, the mean count per corner of billows leaving it (within "
+       << fmt("%.0f", kCornerConeDeg)
+       << " degrees of the diagonal), the mean |angle| of single ones from the diagonal; the last column lists every billow in each "
+          "corner's quadrant.\n\n";
+    md << "| warp/weft | c (cm) | B warp | B weft | structure | billows/corner | mean abs angle (deg) | corners (count (angles)) "
+          "|\n|---|---|---|---|---|---|---|---|\n";
+    for (const MapCell& c : cells) {
+        const double B = std::pow(c.length, 3) * cv.W * 1e-3;
+        md << "| " << fmt("%.3g", c.ratio) << " | " << fmt("%.2g", c.length) << " | " << fmt("%.3g", B * std::sqrt(c.ratio)) << " | "
+           << fmt("%.3g", B / std::sqrt(c.ratio)) << " | " << structure_name(c.majority) << (c.converged ? "" : " (not converged)") << " | "
+           << fmt("%.2f", c.mean_billows) << " | " << fmt("%.0f", c.mean_abs_angle) << " |";
+        for (const auto& b : c.corners) md << " " << corner_cell(b);
+        md << " |\n";
+    }
+    md << "\nThe paper's fabrics on the map:\n\n| fabric | c (cm) | warp/weft |\n|---|---|---|\n";
+    for (std::size_t f = 0; f < paper.size(); ++f) {
+        const auto [len, ratio] = map_position(paper[f]);
+        md << "| " << o.fabrics[f] << " | " << fmt("%.2f", len) << " | " << fmt("%.2f", ratio) << " |\n";
+    }
+    md << "\n![corner map](corner_map.png)\n";
+    return md.str();
+}
+
+std::string run_map(const ExperimentRequest& o)
+{
+    const std::string out_dir = o.out.string();
+    if (o.reuse && o.plan_only) throw InputError(kCommandLine, "--plan-only", "expected no --reuse (reused drapes need no plan)");
+    const int nr = o.map_rows, nc = o.map_columns;
+    if (nr < 2 || nc < 2 || nr > 9 || nc > 9)
+        throw InputError(kCommandLine, "--map-grid", "expected RxL: R ratios by L bending lengths, each 2 .. 9");
+    std::vector<std::string> warnings;
+    const kes::FabricData cotton = io::find_fabric("cotton", &warnings);
+    std::vector<kes::FabricData> paper;
+    for (const auto& f : o.fabrics) paper.push_back(io::find_fabric(f, &warnings));
+    if (o.on_warnings) o.on_warnings(warnings);
+    const KesValues cv = kes_values(cotton);
+
+    // Ratios 1/4 .. 4 evenly in log2; bending lengths 1 .. 5 cm evenly.
+    std::vector<double> ratios, lengths;
+    for (int i = 0; i < nr; ++i) ratios.push_back(std::pow(2.0, -2.0 + 4.0 * i / (nr - 1)));
+    for (int i = 0; i < nc; ++i) lengths.push_back(1.0 + 4.0 * i / (nc - 1));
+    std::vector<MapCell> cells;
+    nlohmann::json jcells = nlohmann::json::array();
+    // --reuse: the drapes of an earlier run (its corner_map.json), analysed again (no draping);
+    // read and checked whole before anything is written (io::load_corner_map).
+    std::optional<io::CornerMap> reused;
+    if (o.reuse) reused = io::load_corner_map(o.reuse->string());
+    auto reused_cell = [&](double r, double c) -> const io::CornerMapCell& {
+        for (const auto& cell : reused->cells)
+            if (std::abs(cell.ratio_warp_weft - r) < 1e-9 * r && std::abs(cell.bending_length_cm - c) < 1e-9 * c) return cell;
+        throw InputError(o.reuse->string(), "cells",
+                         "no drape for ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm (use the same --map-grid)");
+    };
+    if (reused)
+        for (double r : ratios)
+            for (double c : lengths) reused_cell(r, c);
+    std::optional<SweepPlace> place;
+    if (!o.reuse) place = sweep_place(o);
+    if (!o.plan_only) {
+        make_output_dir(out_dir);  // after every input is read: a bad one writes nothing
+        check_output_targets(out_dir, {"corner_map.png", "corner_map.md", "corner_map.json"});
+    }
+    // The drapes: a plan with one fabric file per cell (<sweep>/fabrics/ratio-R_length-C.toml).
+    std::optional<PlanRun> pr;
+    std::optional<SweepFolderLock> lock;
+    std::vector<io::SweepPoint> points;
+    if (!o.reuse) {
+        std::string plan = plan_head("map", "The corner map: synthetic fabrics (cotton's W and shear) of warp/weft bending ratio " +
+                                                fmt("%.3g", ratios.front()) + " .. " + fmt("%.3g", ratios.back()) + " by bending length " +
+                                                fmt("%.3g", lengths.front()) + " .. " + fmt("%.3g", lengths.back()) + " cm over the cube") +
+            "\n[axes]\nfabric = [\n";
+        std::vector<std::pair<std::string, std::string>> files;
+        std::vector<std::string> what;
+        for (double r : ratios)
+            for (double c : lengths) {
+                const std::string name = "fabrics/ratio-" + fmt("%.3g", r) + "_length-" + fmt("%.3g", c) + ".toml";
+                files.emplace_back(name, synthetic_fabric(r, c, cv.W, cv.G));
+                plan += "  \"" + name + "\",\n";
+                what.push_back("cube, ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm, seed 1");
+            }
+        plan += "]\n" + plan_options(o, true, true);
+        pr = run_experiment_plan(o, *place, plan, files, what);
+        if (!pr->plan) return pr->message;
+        lock.emplace(pr->dir);
+        points = pr->plan->points();
+    } else {
+        install_interrupt_handler();
+    }
+    io::OutputSet set(out_dir, {"corner_map.png", "corner_map.md"});
+    std::size_t next = 0;
+    for (double r : ratios)
+        for (double c : lengths) {
+            Outcome d;
+            nlohmann::json jc;
+            std::vector<std::vector<analysis::Billow>> corner_billows(4);
+            if (o.reuse) {
+                const io::CornerMapCell& rc = reused_cell(r, c);
+                jc = rc.json;
+                d.converged = rc.converged;
+                for (int k = 0; k < 4; ++k) corner_billows[k] = rc.corners[k];
+            } else {
+                d = read_outcome(pr->dir, points[next++], "ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm", false);
+                jc = outcome_json(d);
+                if (d.has_folds() && !d.sections.empty())
+                    for (int k = 0; k < 4; ++k) corner_billows[k] = d.sections[0][k];
+            }
+            const MapCell cell = analyse_cell(r, c, d.converged, o.reuse ? reused_cell(r, c).has_folds : d.has_folds(), corner_billows);
+            jc["ratio_warp_weft"] = r;
+            jc["bending_length_cm"] = c;
+            jc["structure"] = structure_name(cell.majority);
+            jcells.push_back(jc);
+            cells.push_back(cell);
+        }
+
+    const render::Image img = map_picture(cells, ratios, lengths, paper, o.fabrics);
+    set.add("corner_map.png", render::encode_png(img, join_path(out_dir, "corner_map.png")));
+
+    set.add("corner_map.md", map_markdown(o, cells, paper, cv, reused));
+    nlohmann::json j{{"command", o.command}, {"version", WOVEN_VERSION}, {"cells", jcells}};
+    if (o.reuse)
+        j["drapes_from"] = {{"file", o.reuse->string()}, {"command", reused->command}, {"version", reused->version}};
+    require_finite_experiment(j, "experiment map");
+    check_not_interrupted();
+    if (o.reuse && interrupt_requested()) throw ExperimentInterrupted{};
+    j["files"] = set.files_json();
+    set.publish("corner_map.json", j.dump(1) + "\n");
+    return "wrote " + join_path(out_dir, "corner_map.png") + ", corner_map.md, corner_map.json";
+}
+
+// ---------------------------------------------------------------------------------------------
+// woven experiment figure1
+
+std::string run_figure1(const ExperimentRequest& o)
+{
+    const std::string out_dir = o.out.string();
+    std::vector<std::string> warnings;
+    const std::vector<std::string> names = {"chair", "table"};
+    std::vector<io::SceneSpec> scenes;
+    std::vector<kes::FabricData> fabrics;
+    for (const auto& name : names) {
+        scenes.push_back(io::find_scene(name, &warnings));
+        fabrics.push_back(io::find_fabric(scenes.back().fabric, &warnings));
+    }
+    if (o.on_warnings) o.on_warnings(warnings);
+    const SweepPlace place = sweep_place(o);
+    if (!o.plan_only) {
+        make_output_dir(out_dir);
+        check_output_targets(out_dir, {"figure1_chair.png", "figure1_table.png", "figure1.md", "figure1.json"});
+    }
+    // The drapes: each scene with its own fabric, seed 1 (examples/experiment-figure1.toml).
+    std::string plan = plan_head("figure1", "Fig. 1: the chair and the end table, each with its scene's fabric") + "\n[axes]\nscene = [";
+    std::vector<std::string> what;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+        plan += (k ? ", \"" : "\"") + names[k] + "\"";
+        what.push_back(names[k] + ", " + scenes[k].fabric + ", seed 1");
+    }
+    plan += "]\n" + plan_options(o, false, true);
+    const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
+    if (!pr.plan) return pr.message;
+    const SweepFolderLock lock(pr.dir);
+    const std::vector<io::SweepPoint> points = pr.plan->points();
+    io::OutputSet set(out_dir, {"figure1_chair.png", "figure1_table.png", "figure1.md"});
+    std::ostringstream md;
+    md << "# Fig. 1: a chair and an end table\n\n"
+       << provenance(o.command) << "\n\n| scene | converged | steps | wall (s) |\n|---|---|---|---|\n";
+    nlohmann::json runs = nlohmann::json::array();
+    for (std::size_t k = 0; k < names.size(); ++k) {
+        const std::string& name = names[k];
+        const io::SceneSpec& scene = scenes[k];
+        const Outcome d = read_outcome(pr.dir, points[k], scene.fabric, true);
+        const render::DrapeScene ds = drape_scene(d, scene, fabrics[k]);
+        const std::string png = "figure1_" + name + ".png";
+        set.add(png, render::encode_png(picture(ds, render::View::SCENE, 1024, 768, png), join_path(out_dir, png)));
+        md << "| " << name << " (" << scene.fabric << ", " << d.grid.nu << " x " << d.grid.nv << ") | " << (d.converged ? "yes" : "no")
+           << " | " << d.steps << " | " << fmt("%.0f", d.wall_s) << " |\n";
+        runs.push_back(outcome_json(d));
+        runs.back()["scene"] = name;
+    }
+    md << "\n![chair](figure1_chair.png)\n\n![table](figure1_table.png)\n";
+    set.add("figure1.md", md.str());
+    nlohmann::json j{{"command", o.command}, {"version", WOVEN_VERSION}, {"runs", runs}};
+    require_finite_experiment(j, "experiment figure1");
+    check_not_interrupted();
+    j["files"] = set.files_json();
+    set.publish("figure1.json", j.dump(1) + "\n");
+    return "wrote " + join_path(out_dir, "figure1_chair.png") + ", figure1_table.png, figure1.md";
+}
+
+}  // namespace
+
+ExperimentResult experiment(const ExperimentRequest& request)
+{
+    integer_in_range(request.seeds, "--seeds", 1, 100);
+    if (request.grid) integer_in_range(*request.grid, "--grid", 3, 401);
+    integer_in_range(request.threads, "--threads", 0, io::kMaxThreads);
+    ExperimentResult result;
+    try {
+        result.message = request.which == Experiment::CUBE  ? run_cube(request)
+                         : request.which == Experiment::MAP ? run_map(request)
+                                                            : run_figure1(request);
+    } catch (const ExperimentInterrupted& e) {
+        result.interrupted = true;
+        result.signal = e.signal;
+    }
+    return result;
+}
+
+}  // namespace woven::app
