@@ -1,5 +1,6 @@
 # Fails on an upward #include between the modules of src/woven (docs/CPP.md "Code layout"):
-#   common < kes, geometry < model < sim < testers, analysis < io, render < app < cli, python
+#   common < kes, geometry < model < analysis < sim < testers < io, render < app < cli, python
+# (analysis reads shapes, never solvers: the residual forces of a state are passed in)
 # A file in module M may include "woven/N/..." only when N's layer is at or below M's; the two
 # front ends (cli, python) share a layer and never include each other.
 # Usage: cmake -DROOT=<dir holding woven/<module>/> [-DPYTHON_SRC=<the Python module's sources>]
@@ -11,14 +12,14 @@ set(layer_common 0)
 set(layer_kes 1)
 set(layer_geometry 1)
 set(layer_model 2)
-set(layer_sim 3)
-set(layer_testers 4)
-set(layer_analysis 4)
-set(layer_io 5)
-set(layer_render 5)
-set(layer_app 6)
-set(layer_cli 7)
-set(layer_python 7)
+set(layer_analysis 3)
+set(layer_sim 4)
+set(layer_testers 5)
+set(layer_io 6)
+set(layer_render 6)
+set(layer_app 7)
+set(layer_cli 8)
+set(layer_python 8)
 
 file(GLOB_RECURSE files RELATIVE "${ROOT}/woven" "${ROOT}/woven/*.hpp" "${ROOT}/woven/*.cpp" "${ROOT}/woven/*.h")
 list(TRANSFORM files PREPEND "${ROOT}/woven/" OUTPUT_VARIABLE paths)
