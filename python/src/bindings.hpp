@@ -13,6 +13,7 @@
 #include <pybind11/pybind11.h>
 
 #include "woven/app/files.hpp"
+#include "woven/app/progress.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/kes/fabric.hpp"
@@ -108,14 +109,13 @@ public:
     InCallback(const InCallback&) = delete;
     InCallback& operator=(const InCallback&) = delete;
 };
-/// Runs `f` (a command's code), holding a CallLock, with the GIL released, std::cout and std::cerr captured, the
-/// progress line off and Ctrl-C (a signal the interpreter has seen) polled as an interrupt.
-/// The lines "woven: warning: ..." it printed are issued as Python warnings. Returns true when
-/// it was interrupted; `out` receives what it printed on stdout.
-/// `progress` (a callable, or None) gets a dict per progress event (app::ProgressEvent) in place
-/// of the command's progress lines; False or KeyboardInterrupt from it stops the command as
-/// Ctrl-C does; another exception from it is raised once the command has stopped.
-bool run_command(const std::function<void()>& f, std::string* out = nullptr, py::handle progress = py::none());
+/// Runs `f` (a job), holding a CallLock, with the GIL released and std::cout and std::cerr
+/// captured; `f` gets the Monitor to put in its request (app/progress.hpp): no progress display,
+/// Ctrl-C (a signal the interpreter has seen) polled as an interrupt, and the progress events to
+/// `progress` (a callable, or None) as dicts; False or KeyboardInterrupt from it stops the job as
+/// Ctrl-C does; another exception from it is raised once the job has stopped. The lines "woven:
+/// warning: ..." it printed are issued as Python warnings; `out` receives what it printed on stdout.
+void run_command(const std::function<void(const app::Monitor&)>& f, std::string* out = nullptr, py::handle progress = py::none());
 /// Calls `progress(info)` (marked InCallback): false when it returned False or raised; the first
 /// exception other than KeyboardInterrupt is kept in `error`. With the GIL held.
 bool call_progress(py::handle progress, py::dict info, std::optional<py::error_already_set>& error);

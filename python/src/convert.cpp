@@ -89,7 +89,7 @@ private:
     std::streambuf* err_old_;
 };
 
-/// The interrupt poll of app::interrupt_requested while a command runs from Python.
+/// The interrupt poll of a job run from Python (app::Monitor::interrupt).
 bool poll_python()
 {
     py::gil_scoped_acquire gil;
@@ -283,41 +283,37 @@ bool call_progress(py::handle progress, py::dict info, std::optional<py::error_a
     }
 }
 
-bool run_command(const std::function<void()>& f, std::string* out, py::handle progress)
+void run_command(const std::function<void(const app::Monitor&)>& f, std::string* out, py::handle progress)
 {
     const CallLock lock;
     if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw py::type_error("progress must be callable or None");
-    bool interrupted = false;
     std::string err;
     std::exception_ptr failure;
     std::optional<py::error_already_set> callback_error;
+    // The job's monitor: no display, Ctrl-C polled, progress events to the callable.
+    app::Monitor monitor;
+    monitor.quiet = true;
+    monitor.interrupt = &poll_python;
+    if (!progress.is_none())
+        monitor.progress = [&](const app::ProgressEvent& e) {
+            py::gil_scoped_acquire gil;
+            if (signal_seen()) return false;
+            return call_progress(progress, event_dict(e), callback_error);
+        };
     {
         Capture capture;
-        app::set_progress_shown(false);
-        app::set_interrupt_poll(&poll_python);
-        if (!progress.is_none())
-            app::set_progress_sink([&](const app::ProgressEvent& e) {
-                py::gil_scoped_acquire gil;
-                if (signal_seen()) return false;
-                return call_progress(progress, event_dict(e), callback_error);
-            });
         try {
             py::gil_scoped_release release;
-            f();
+            f(monitor);
         } catch (...) {
             failure = std::current_exception();
         }
-        app::set_progress_sink({});
-        interrupted = app::interrupt_requested();
-        app::set_interrupt_poll(nullptr);
-        app::set_progress_shown(true);
         err = capture.err();
         if (out) *out = capture.out();
     }
     if (callback_error) throw std::move(*callback_error);
     warn(printed_warnings(err));
     if (failure) std::rethrow_exception(failure);
-    return interrupted;
 }
 
 }  // namespace woven::python

@@ -66,7 +66,7 @@ std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric
     } else {
         in.fabric = option_text(fabric);
     }
-    run_command([&] {  // the command's order: the scene, then the options
+    run_command([&](const app::Monitor&) {  // the command's order: the scene, then the options
         if (given_scene) in.scene_spec = given_scene->build(&warnings);
         else in.scene_spec = io::find_scene(in.scene, &warnings);
     });
@@ -92,7 +92,10 @@ std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric
         in.initial = std::move(x);
     }
     std::shared_ptr<app::DrapeSetup> setup;
-    run_command([&] { setup = app::prepare_drape(std::move(in), warnings); });
+    run_command([&](const app::Monitor& monitor) {
+        in.monitor = monitor;
+        setup = app::prepare_drape(std::move(in), warnings);
+    });
     warn(warnings);
     return setup;
 }
@@ -276,7 +279,10 @@ nlohmann::json save(const DrapeResult& r, py::object out, bool render, bool ply_
     w.height = static_cast<int>(integer_arg(height, "--height", app::kPictureSizeRange[0], app::kPictureSizeRange[1]).value_or(0));
     const std::string dir = option_text(out).value_or("");
     nlohmann::json report;
-    run_command([&] { report = app::write_drape_outputs(*r.run, dir, w); });
+    run_command([&](const app::Monitor& monitor) {
+        w.monitor = monitor;
+        report = app::write_drape_outputs(*r.run, dir, w);
+    });
     return report;
 }
 

@@ -106,7 +106,12 @@ py::object kes_test(py::object fabric, py::object test, py::object direction, py
     r.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
     app::KesTestResult result;
     try {
-        run_command([&] { result = app::kes_test(r); }, nullptr, progress);
+        run_command(
+            [&](const app::Monitor& monitor) {
+                r.monitor = monitor;
+                result = app::kes_test(r);
+            },
+            nullptr, progress);
     } catch (...) {
         warn(warnings);  // as they came, before the error
         throw;
@@ -148,7 +153,12 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
     r.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
     app::CusickResult result;
     try {
-        run_command([&] { result = app::cusick(r); }, nullptr, progress);
+        run_command(
+            [&](const app::Monitor& monitor) {
+                r.monitor = monitor;
+                result = app::cusick(r);
+            },
+            nullptr, progress);
     } catch (...) {
         warn(warnings);  // as they came, before the error
         throw;
@@ -186,7 +196,10 @@ py::object fit(py::object fabric, py::object sigma_cm, py::object out)
     request.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
     app::FitResult result;
     try {
-        run_command([&] { result = app::fit(request); });
+        run_command([&](const app::Monitor& monitor) {
+            request.monitor = monitor;
+            result = app::fit(request);
+        });
     } catch (...) {
         warn(warnings);  // as they came, before the error
         throw;

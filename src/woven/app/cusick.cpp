@@ -384,6 +384,7 @@ void add_run_statistics(nlohmann::json& rep, const std::vector<double>& dcs, con
 
 CusickResult cusick(const CusickRequest& request)
 {
+    const MonitorScope monitor(request.monitor);
     // 1. Validate everything before writing anything.
     testers::CusickOptions co = cusick_options(request);
     const testers::CusickSearchOptions search = search_options(request);

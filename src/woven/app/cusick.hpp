@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/app/files.hpp"
+#include "woven/app/progress.hpp"
 #include "woven/model/cloth_model.hpp"
 #include "woven/testers/cusick.hpp"
 
@@ -67,6 +68,8 @@ struct CusickRequest {
     std::function<void(const std::vector<std::string>&)> on_warnings;
     std::function<void(const std::string&)> on_start;
     std::function<void(const CusickRunLine&)> on_run;
+    /// Progress, interrupts and the display while the job runs (progress.hpp).
+    Monitor monitor;
 };
 
 struct CusickResult {

@@ -33,6 +33,7 @@ render::Image render_drape(const Positions& x, const model::Grid& grid, const io
 
 std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std::string>& warnings)
 {
+    const MonitorScope monitor(request.monitor);
     const DrapeRequest& r = request;
     auto setup = std::make_unique<DrapeSetup>();
     DrapeSetup& d = *setup;
@@ -320,6 +321,7 @@ nlohmann::json drape_report_json(const DrapeRun& run, const std::vector<std::str
 
 nlohmann::json write_drape_outputs(const DrapeRun& run, const std::string& out_dir, const DrapeWriteOptions& options)
 {
+    const MonitorScope monitor(options.monitor);
     const DrapeSetup& d = *run.setup;
     integer_in_range(options.width, "--width", kPictureSizeRange[0], kPictureSizeRange[1]);
     integer_in_range(options.height, "--height", kPictureSizeRange[0], kPictureSizeRange[1]);

@@ -19,6 +19,7 @@
 
 #include "woven/analysis/folds.hpp"
 #include "woven/app/files.hpp"
+#include "woven/app/progress.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/kes/fabric.hpp"
@@ -77,6 +78,8 @@ struct DrapeRequest {
     /// SHA-256 goes into report.json's start_sha256. Not with `start`.
     std::optional<Positions> initial;
     std::string initial_sha256;
+    /// Progress, interrupts and the display while the job runs (progress.hpp).
+    Monitor monitor;
 };
 
 /// Step 1 of a drape: the request's values checked, the scene and its overrides, threads and
@@ -168,6 +171,8 @@ struct DrapeWriteOptions {
     bool ply_ascii = false;
     int width = 1024;
     int height = 768;
+    /// Progress, interrupts and the display while the job runs (progress.hpp).
+    Monitor monitor;
 };
 
 /// The files `woven drape` writes in its --out directory (created if missing): drape.obj,

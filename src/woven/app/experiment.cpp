@@ -866,6 +866,7 @@ std::string run_figure1(const ExperimentRequest& o)
 
 ExperimentResult experiment(const ExperimentRequest& request)
 {
+    const MonitorScope monitor(request.monitor);
     integer_in_range(request.seeds, "--seeds", 1, 100);
     if (request.grid) integer_in_range(*request.grid, "--grid", 3, 401);
     integer_in_range(request.threads, "--threads", 0, io::kMaxThreads);

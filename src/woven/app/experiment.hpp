@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "woven/app/progress.hpp"
 #include "woven/app/sweep.hpp"
 #include "woven/common/choice.hpp"
 
@@ -38,6 +39,8 @@ struct ExperimentRequest {
     /// Each may be empty: the inputs' warnings; each drape as it starts (what it drapes).
     std::function<void(const std::vector<std::string>&)> on_warnings;
     std::function<void(const std::string&)> on_drape;
+    /// Progress, interrupts and the display while the job runs (progress.hpp).
+    Monitor monitor;
 };
 
 struct ExperimentResult {

@@ -250,6 +250,7 @@ FitResult fit_and_write(const FitRequest& request)
 
 FitResult fit(const FitRequest& request)
 {
+    const MonitorScope monitor(request.monitor);
     FitResult result;  // an error of the fitting stage names the fabric's file
     with_fabric_source(command_fabric_source(request.fabric, request.given_fabric), [&] { result = fit_and_write(request); });
     return result;

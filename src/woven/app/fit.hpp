@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/app/files.hpp"
+#include "woven/app/progress.hpp"
 #include "woven/common/units.hpp"
 #include "woven/io/scene_file.hpp"
 
@@ -27,6 +28,8 @@ struct FitRequest {
     std::optional<std::filesystem::path> out;  ///< absent: out/fit-<name>
     /// Gets the fabric's warnings once it is read (before the fit).
     std::function<void(const std::vector<std::string>&)> on_warnings;
+    /// Progress, interrupts and the display while the job runs (progress.hpp).
+    Monitor monitor;
 };
 
 struct FitResult {

@@ -506,6 +506,7 @@ void check_kes_request(const KesTestRequest& r)
 
 KesTestResult kes_test(const KesTestRequest& request)
 {
+    const MonitorScope monitor(request.monitor);
     // Everything is checked before anything runs or is written: every value first, then the
     // fabric, the memory the largest specimen needs and the output folder.
     check_kes_request(request);

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/app/files.hpp"
+#include "woven/app/progress.hpp"
 #include "woven/common/choice.hpp"
 #include "woven/model/cloth_model.hpp"
 #include "woven/testers/specimen.hpp"
@@ -51,6 +52,8 @@ struct KesTestRequest {
     bool convergence = false;            ///< also the cantilever's grid convergence study
     /// Gets the fabric's warnings once it is read (before any test runs).
     std::function<void(const std::vector<std::string>&)> on_warnings;
+    /// Progress, interrupts and the display while the job runs (progress.hpp).
+    Monitor monitor;
 };
 
 /// A friction loop's widths (bending: 2HB; shear: 2HG and 2HG5), input and simulated.

@@ -112,6 +112,29 @@ void set_progress_sink(std::function<bool(const ProgressEvent&)> sink)
     g_has_sink = static_cast<bool>(g_sink);
 }
 
+MonitorScope::MonitorScope(const Monitor& m)
+{
+    active_ = m.progress || m.interrupt || m.quiet;
+    if (!active_) return;
+    poll_ = g_poll.load();
+    shown_ = g_shown.load();
+    {
+        const std::lock_guard lock(g_sink_mutex);
+        sink_ = g_sink;
+    }
+    if (m.interrupt) set_interrupt_poll(m.interrupt);
+    if (m.quiet) set_progress_shown(false);
+    if (m.progress) set_progress_sink(m.progress);
+}
+
+MonitorScope::~MonitorScope()
+{
+    if (!active_) return;
+    set_progress_sink(std::move(sink_));
+    set_interrupt_poll(poll_);
+    set_progress_shown(shown_);
+}
+
 int interrupted_exit_code()
 {
     const int s = g_signal.load();

@@ -49,6 +49,31 @@ void set_progress_sink(std::function<bool(const ProgressEvent&)> sink);
 /// 128 + the first signal received (130 for SIGINT, 143 for SIGTERM); 130 when none was.
 int interrupted_exit_code();
 
+/// How a front end follows a job (a member of each job's request): its progress events instead
+/// of the progress display on stderr, an interrupt poll besides SIGINT and SIGTERM (the Python
+/// module: a Ctrl-C the interpreter has seen; while one is set the signal handlers are not
+/// installed), and whether the display draws at all. Empty: the display on stderr, signals only.
+struct Monitor {
+    std::function<bool(const ProgressEvent&)> progress;  ///< false: stop the job as an interrupt does
+    bool (*interrupt)() = nullptr;
+    bool quiet = false;
+};
+/// A job's Monitor in force for its lifetime (a job installs its request's at its start); the
+/// previous one is restored after. An empty Monitor changes nothing.
+class MonitorScope {
+public:
+    explicit MonitorScope(const Monitor& monitor);
+    ~MonitorScope();
+    MonitorScope(const MonitorScope&) = delete;
+    MonitorScope& operator=(const MonitorScope&) = delete;
+
+private:
+    bool active_ = false;
+    bool (*poll_)() = nullptr;
+    bool shown_ = true;
+    std::function<bool(const ProgressEvent&)> sink_;
+};
+
 /// Columns a progress line may take on stderr: the terminal's width less one (80 when it does
 /// not say), 200 when stderr is not a terminal.
 int progress_columns();

@@ -14,7 +14,7 @@ render::DrapeScene scene_view(render::ClothSurface cloth, const geometry::Obstac
                               const io::CameraSpec* camera = nullptr);
 
 /// A width x height picture of `scene` from `view`, framed tightly; a wait over two seconds
-/// gets word on stderr naming `what` (cli/progress.hpp Activity).
+/// gets word on stderr naming `what` (progress.hpp Activity).
 render::Image render_view(const render::DrapeScene& scene, render::View view, int width, int height,
                           const std::string& what = "picture");
 
