@@ -80,6 +80,23 @@ py::dict csv_columns(const std::string& path)
     return d;
 }
 
+/// Runs a job whose request reports the fabric's warnings through on_warnings (set here): they
+/// are issued as Python warnings once it ends, before its error if it fails. `f` fills the
+/// request's monitor and runs the job (run_command).
+template <class Request>
+void run_job(Request& request, const std::function<void(const app::Monitor&)>& f, py::handle progress = py::none())
+{
+    std::vector<std::string> warnings;
+    request.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
+    try {
+        run_command(f, nullptr, progress);
+    } catch (...) {
+        warn(warnings);
+        throw;
+    }
+    warn(warnings);
+}
+
 py::object kes_test(py::object fabric, py::object test, py::object direction, py::object sigma_cm, py::object shear_length_cm,
                     py::object bending_form, py::object discretization, py::object shear_law, py::object hysteresis, bool convergence,
                     py::object threads, py::object out, py::object progress)
@@ -102,21 +119,14 @@ py::object kes_test(py::object fabric, py::object test, py::object direction, py
     r.threads = static_cast<int>(integer_arg(threads, "--threads", 0, io::kMaxThreads).value_or(0));
     const OutDir dir(out);
     r.out = dir.path();
-    std::vector<std::string> warnings;
-    r.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
     app::KesTestResult result;
-    try {
-        run_command(
-            [&](const app::Monitor& monitor) {
-                r.monitor = monitor;
-                result = app::kes_test(r);
-            },
-            nullptr, progress);
-    } catch (...) {
-        warn(warnings);  // as they came, before the error
-        throw;
-    }
-    warn(warnings);
+    run_job(
+        r,
+        [&](const app::Monitor& monitor) {
+            r.monitor = monitor;
+            result = app::kes_test(r);
+        },
+        progress);
     py::dict report = to_python(result.report);
     // The curves the CSV files hold, as arrays: {"bending_warp": {"K_per_cm": ..., ...}, ...}.
     py::dict curves;
@@ -149,21 +159,14 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
     r.render = render;
     const OutDir dir(out);
     r.out = dir.path();
-    std::vector<std::string> warnings;
-    r.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
     app::CusickResult result;
-    try {
-        run_command(
-            [&](const app::Monitor& monitor) {
-                r.monitor = monitor;
-                result = app::cusick(r);
-            },
-            nullptr, progress);
-    } catch (...) {
-        warn(warnings);  // as they came, before the error
-        throw;
-    }
-    warn(warnings);
+    run_job(
+        r,
+        [&](const app::Monitor& monitor) {
+            r.monitor = monitor;
+            result = app::cusick(r);
+        },
+        progress);
     py::dict report = to_python(result.report);
     // The draped specimen (cusick.obj) as arrays, m, z up.
     const fs::path obj = fs::path(dir.path()) / "cusick.obj";
@@ -192,19 +195,11 @@ py::object fit(py::object fabric, py::object sigma_cm, py::object out)
     request.sigma_cm = number_arg(sigma_cm, "--sigma-cm", app::kFitSigmaRange_cm[0], app::kFitSigmaRange_cm[1]).value_or(2);
     const OutDir dir(out);
     request.out = dir.path();
-    std::vector<std::string> warnings;
-    request.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
     app::FitResult result;
-    try {
-        run_command([&](const app::Monitor& monitor) {
-            request.monitor = monitor;
-            result = app::fit(request);
-        });
-    } catch (...) {
-        warn(warnings);  // as they came, before the error
-        throw;
-    }
-    warn(warnings);
+    run_job(request, [&](const app::Monitor& monitor) {
+        request.monitor = monitor;
+        result = app::fit(request);
+    });
     nlohmann::json report = std::move(result.report);
     report["summary"] = result.summary;  // each curve's fit and the energies' constants
     return to_python(report);

@@ -393,15 +393,13 @@ CusickResult cusick(const CusickRequest& request)
     const kes::FabricData fabric = command_fabric(request.fabric, request.given_fabric, &warnings);
     if (request.on_warnings) request.on_warnings(warnings);
     const std::string name = fabric.name.empty() ? request.fabric : fabric.name;
-    if (request.out && request.out->empty()) throw InputError(kCommandLine, "--out", "expected a directory path, got an empty string");
-    const std::string out_dir = request.out ? request.out->string() : join_path("out", "cusick-" + safe_file_name(name));
+    const std::string out_dir = path_given(request.out, "--out").value_or(join_path("out", "cusick-" + safe_file_name(name)));
     const testers::CusickSetup setup = cusick_setup(co);
     check_cusick_memory(setup, co, request, search);
     with_fabric_source(command_fabric_source(request.fabric, request.given_fabric), [&] { resolve_shear_law(fabric, co.model); });
     std::string start_sha256;
     if (request.start) {
-        if (request.start->empty()) throw InputError(kCommandLine, "--start", "expected a directory path, got an empty string");
-        io::StartState start = io::load_start(request.start->string(), setup.grid, setup.cut.active, setup.initial);
+        io::StartState start = io::load_start(path_given(request.start->string(), "--start"), setup.grid, setup.cut.active, setup.initial);
         co.start = std::move(start.x);
         start_sha256 = start.sha256;
     }

@@ -87,8 +87,7 @@ std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std:
     // scene's pinned particles stay where it pins them.
     std::optional<Positions> start;
     if (r.start) {
-        if (r.start->empty()) throw InputError(kCommandLine, "--start", "expected a directory path, got an empty string");
-        io::StartState read = io::load_start(r.start->string(), d.grid, d.model->stencils().active, d.problem.initial);
+        io::StartState read = io::load_start(path_given(r.start->string(), "--start"), d.grid, d.model->stencils().active, d.problem.initial);
         start = std::move(read.x);
         d.start_sha256 = read.sha256;
     } else if (r.initial) {
@@ -325,7 +324,7 @@ nlohmann::json write_drape_outputs(const DrapeRun& run, const std::string& out_d
     const DrapeSetup& d = *run.setup;
     integer_in_range(options.width, "--width", kPictureSizeRange[0], kPictureSizeRange[1]);
     integer_in_range(options.height, "--height", kPictureSizeRange[0], kPictureSizeRange[1]);
-    if (out_dir.empty()) throw InputError(kCommandLine, "--out", "expected a directory path, got an empty string");
+    path_given(out_dir, "--out");
     make_output_dir(out_dir);
     std::vector<std::string> targets = kDrapeFiles;
     targets.push_back("report.json");

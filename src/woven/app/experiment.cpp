@@ -6,12 +6,10 @@
 // the raw numbers (JSON) into --out.
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -23,7 +21,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -36,6 +33,7 @@
 #include "woven/app/run_checks.hpp"
 #include "woven/app/scene_view.hpp"
 #include "woven/app/sweep.hpp"
+#include "woven/app/sweep_parts.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/corner_map_file.hpp"
 #include "woven/io/fabric_file.hpp"
@@ -189,7 +187,6 @@ Outcome read_outcome(const std::string& sweep_dir, const io::SweepPoint& point, 
 /// Writes `text` to `path` (through a temporary and a rename) unless the file holds it already.
 void write_if_changed(const std::string& path, const std::string& text)
 {
-    namespace fs = std::filesystem;
     {
         std::ifstream in(path, std::ios::binary);
         if (in) {
@@ -198,20 +195,7 @@ void write_if_changed(const std::string& path, const std::string& text)
             if (s.str() == text) return;
         }
     }
-    const fs::path target(path);
-    const fs::path tmp = target.parent_path() / (".woven-tmp." + std::to_string(::getpid()) + "." + target.filename().string());
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        out.flush();
-        if (!out) throw RuntimeError(path + ": cannot write: " + std::strerror(errno));
-    }
-    std::error_code ec;
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw RuntimeError(path + ": cannot move into place: " + ec.message());
-    }
+    write_atomic(path, text);
 }
 
 /// The plan's head: its name, description and command (every experiment drapes).
@@ -252,8 +236,7 @@ struct SweepPlace {
 SweepPlace sweep_place(const ExperimentRequest& o)
 {
     SweepPlace p;
-    if (o.sweep && o.sweep->empty()) throw InputError(kCommandLine, "--sweep", "expected a directory path, got an empty string");
-    p.dir = o.sweep ? o.sweep->string() : join_path("out", "experiment-" + which_name(o));
+    p.dir = path_given(o.sweep, "--sweep").value_or(join_path("out", "experiment-" + which_name(o)));
     p.run.jobs = static_cast<int>(integer_in_range(o.jobs, "--jobs", 1, 4096));
     p.run.shard = o.shard;
     return p;

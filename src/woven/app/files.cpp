@@ -93,6 +93,18 @@ double positive_in_range(double value, const std::string& field, double hi)
     return value;
 }
 
+std::string path_given(const std::string& path, const std::string& field)
+{
+    if (path.empty()) throw InputError(kCommandLine, field, "expected a directory path, got an empty string");
+    return path;
+}
+
+std::optional<std::string> path_given(const std::optional<std::filesystem::path>& path, const std::string& field)
+{
+    if (!path) return std::nullopt;
+    return path_given(path->string(), field);
+}
+
 std::size_t choice_index(const std::string& text, const std::string& field, std::span<const char* const> names)
 {
     std::string expected;

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <span>
@@ -40,6 +41,11 @@ double number_from_text(const std::string& text, const std::string& field, doubl
 double positive_in_range(double value, const std::string& field, double hi);
 /// `value` when finite and in [lo, hi]; InputError "... expected a number in [lo, hi], got '<value>'".
 double number_in_range(double value, const std::string& field, double lo, double hi);
+
+/// `path` when not empty; InputError "command line: <field>: expected a directory path, got an
+/// empty string" otherwise. The optional version: nullopt stays nullopt.
+std::string path_given(const std::string& path, const std::string& field);
+std::optional<std::string> path_given(const std::optional<std::filesystem::path>& path, const std::string& field);
 
 /// The value `text` names in an enum's table of names (common/choice.hpp); InputError
 /// "command line: <field>: expected a, b or c, got 'x'" otherwise.

@@ -181,14 +181,14 @@ namespace {
 FitResult fit_and_write(const FitRequest& request)
 {
     const double sigma_cm = number_in_range(request.sigma_cm, "--sigma-cm", kFitSigmaRange_cm[0], kFitSigmaRange_cm[1]);
-    if (request.out && request.out->empty()) throw InputError(kCommandLine, "--out", "expected a directory path, got an empty string");
+    const std::optional<std::string> out = path_given(request.out, "--out");
     std::vector<std::string> warnings;
     const kes::FabricData fabric = command_fabric(request.fabric, request.given_fabric, &warnings);
     if (request.on_warnings) request.on_warnings(warnings);
     std::string name = fabric.name;
     if (name.empty()) name = std::filesystem::path(request.fabric).stem().string();
     // The default folder is named after the fabric: made safe, it cannot leave out/.
-    const std::string dir = request.out ? request.out->string() : join_path("out", "fit-" + safe_file_name(name));
+    const std::string dir = out.value_or(join_path("out", "fit-" + safe_file_name(name)));
 
     // Everything is computed (and so validated) before anything is written.
     const kes::FittedFabric fit = kes::fit_fabric(fabric);

@@ -498,7 +498,7 @@ void check_kes_request(const KesTestRequest& r)
         throw InputError(kCommandLine, "--convergence", "expected --test cantilever or all (a study of the cantilever test)");
     if (r.sigma_cm) number_in_range(*r.sigma_cm, "--sigma-cm", kKesSigmaRange_cm[0], kKesSigmaRange_cm[1]);
     if (r.shear_length_cm) number_in_range(*r.shear_length_cm, "--shear-length-cm", kKesShearLengthRange_cm[0], kKesShearLengthRange_cm[1]);
-    if (r.out && r.out->empty()) throw InputError(kCommandLine, "--out", "expected a directory path, got an empty string");
+    path_given(r.out, "--out");
     integer_in_range(r.threads, "--threads", 0, io::kMaxThreads);
 }
 

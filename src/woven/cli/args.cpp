@@ -30,8 +30,7 @@ double parse_number(const std::string& text, const std::string& option, double l
 
 std::string parse_path(const std::string& text, const std::string& option)
 {
-    if (text.empty()) throw InputError(kCommandLine, option, "expected a directory path, got an empty string");
-    return text;
+    return path_given(text, option);
 }
 
 std::size_t parse_choice(const std::string& text, const std::string& option, std::initializer_list<const char*> choices)
