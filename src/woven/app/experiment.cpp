@@ -334,7 +334,7 @@ nlohmann::json outcome_json(const Outcome& d)
 // ---------------------------------------------------------------------------------------------
 // woven experiment cube
 
-std::string run_cube(const ExperimentRequest& o)
+ExperimentResult run_cube(const ExperimentRequest& o)
 {
     const std::string out_dir = o.out.string();
     std::vector<std::string> warnings;
@@ -359,7 +359,7 @@ std::string run_cube(const ExperimentRequest& o)
     }
     plan += "]\nseed = {from = 1, to = " + std::to_string(o.seeds) + "}\n" + plan_options(o, true, false);
     const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
-    if (!pr.plan) return pr.message;
+    if (!pr.plan) return {pr.message};
     const SweepFolderLock lock(pr.dir);  // ranks that find every drape done build one after another
     const std::vector<io::SweepPoint> points = pr.plan->points();
     io::OutputSet set(out_dir, {"cube_figure.png", "cube_folds.md"});
@@ -471,7 +471,7 @@ std::string run_cube(const ExperimentRequest& o)
     check_not_interrupted();
     j["files"] = set.files_json();
     set.publish("cube_results.json", j.dump(1) + "\n");
-    return "wrote " + join_path(out_dir, "cube_figure.png") + ", cube_folds.md, cube_results.json";
+    return {"wrote " + join_path(out_dir, "cube_figure.png") + ", cube_folds.md, cube_results.json", std::move(j)};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -680,7 +680,7 @@ std::string map_markdown(const ExperimentRequest& o, const std::vector<MapCell>&
     return md.str();
 }
 
-std::string run_map(const ExperimentRequest& o)
+ExperimentResult run_map(const ExperimentRequest& o)
 {
     const std::string out_dir = o.out.string();
     if (o.reuse && o.plan_only) throw InputError(kCommandLine, "--plan-only", "expected no --reuse (reused drapes need no plan)");
@@ -739,7 +739,7 @@ std::string run_map(const ExperimentRequest& o)
             }
         plan += "]\n" + plan_options(o, true, true);
         pr = run_experiment_plan(o, *place, plan, files, what);
-        if (!pr->plan) return pr->message;
+        if (!pr->plan) return {pr->message};
         lock.emplace(pr->dir);
         points = pr->plan->points();
     } else {
@@ -783,13 +783,13 @@ std::string run_map(const ExperimentRequest& o)
     if (o.reuse && interrupt_requested()) throw ExperimentInterrupted{};
     j["files"] = set.files_json();
     set.publish("corner_map.json", j.dump(1) + "\n");
-    return "wrote " + join_path(out_dir, "corner_map.png") + ", corner_map.md, corner_map.json";
+    return {"wrote " + join_path(out_dir, "corner_map.png") + ", corner_map.md, corner_map.json", std::move(j)};
 }
 
 // ---------------------------------------------------------------------------------------------
 // woven experiment figure1
 
-std::string run_figure1(const ExperimentRequest& o)
+ExperimentResult run_figure1(const ExperimentRequest& o)
 {
     const std::string out_dir = o.out.string();
     std::vector<std::string> warnings;
@@ -815,7 +815,7 @@ std::string run_figure1(const ExperimentRequest& o)
     }
     plan += "]\n" + plan_options(o, false, true);
     const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
-    if (!pr.plan) return pr.message;
+    if (!pr.plan) return {pr.message};
     const SweepFolderLock lock(pr.dir);
     const std::vector<io::SweepPoint> points = pr.plan->points();
     io::OutputSet set(out_dir, {"figure1_chair.png", "figure1_table.png", "figure1.md"});
@@ -842,7 +842,7 @@ std::string run_figure1(const ExperimentRequest& o)
     check_not_interrupted();
     j["files"] = set.files_json();
     set.publish("figure1.json", j.dump(1) + "\n");
-    return "wrote " + join_path(out_dir, "figure1_chair.png") + ", figure1_table.png, figure1.md";
+    return {"wrote " + join_path(out_dir, "figure1_chair.png") + ", figure1_table.png, figure1.md", std::move(j)};
 }
 
 }  // namespace
@@ -855,9 +855,9 @@ ExperimentResult experiment(const ExperimentRequest& request)
     integer_in_range(request.threads, "--threads", 0, io::kMaxThreads);
     ExperimentResult result;
     try {
-        result.message = request.which == Experiment::CUBE  ? run_cube(request)
-                         : request.which == Experiment::MAP ? run_map(request)
-                                                            : run_figure1(request);
+        result = request.which == Experiment::CUBE  ? run_cube(request)
+                 : request.which == Experiment::MAP ? run_map(request)
+                                                    : run_figure1(request);
     } catch (const ExperimentInterrupted& e) {
         result.interrupted = true;
         result.signal = e.signal;

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "woven/app/progress.hpp"
 #include "woven/app/sweep.hpp"
 #include "woven/common/choice.hpp"
@@ -45,6 +47,7 @@ struct ExperimentRequest {
 
 struct ExperimentResult {
     std::string message;       ///< what was written (or the plan, or this shard's share done), one line
+    nlohmann::json report;     ///< the set's JSON as written (cube_results.json, corner_map.json, figure1.json); null without a set
     bool interrupted = false;  ///< SIGINT / SIGTERM: nothing written (the folder keeps the previous set)
     int signal = 0;            ///< the signal (0: drape's interrupt flag)
 };
