@@ -180,9 +180,14 @@ Layout layout(cairo_t* cr, const Plot& plot, int W, int H)
     const double left = 12 + (plot.y_label.empty() ? 0 : kLabelSize + 8) + tick_w + 6;
     const double bottom = H - (10 + kTickSize + 8 + (plot.x_label.empty() ? 0 : kLabelSize + 8));
     const double right = W - 16.0 - 0.5 * text_width(cr, tick_label(L.ax.ticks.empty() ? 0 : L.ax.ticks.back(), L.ax.step)) + 8;
+    PlotFrame& f = L.f;
+    f.left = std::round(left) + 0.5;
+    f.top = std::round(top) + 0.5;
+    f.right = std::max(f.left + 10, std::round(std::min<double>(right, W - 16)) + 0.5);
+    f.bottom = std::max(f.top + 10, std::round(bottom) + 0.5);
     if (plot.equal_aspect) {
         // Pixels per unit along each axis; the denser one is widened to match the other.
-        const double aw = std::max(10.0, right - left), ah = std::max(10.0, bottom - top);
+        const double aw = f.right - f.left, ah = f.bottom - f.top;
         const double sx = aw / (L.ax.hi - L.ax.lo), sy = ah / (L.ay.hi - L.ay.lo);
         Axis& a = sx > sy ? L.ax : L.ay;
         const double half = 0.5 * (sx > sy ? aw / sy : ah / sx), mid = 0.5 * (a.lo + a.hi);
@@ -198,15 +203,10 @@ Layout layout(cairo_t* cr, const Plot& plot, int W, int H)
             }
         }
     }
-    PlotFrame& f = L.f;
     f.x_lo = L.ax.lo;
     f.x_hi = L.ax.hi;
     f.y_lo = L.ay.lo;
     f.y_hi = L.ay.hi;
-    f.left = std::round(left) + 0.5;
-    f.top = std::round(top) + 0.5;
-    f.right = std::max(f.left + 10, std::round(std::min<double>(right, W - 16)) + 0.5);
-    f.bottom = std::max(f.top + 10, std::round(bottom) + 0.5);
     for (std::size_t si = 0; si < plot.series.size(); ++si) {
         f.colors.push_back(plot.series[si].color.value_or(kTab10[si % kTab10.size()]));
     }
