@@ -12,7 +12,7 @@ find_package(Threads REQUIRED)
 # its idle workers sleep soon, so a busy machine is not slowed by threads spinning.
 find_package(TBB REQUIRED)
 
-# stb (stb_image_write, stb_easy_font): Debian ships the implementations as libstb.
+# stb (stb_image_write, and stb_easy_font for shadow.png's labels): Debian ships the implementations as libstb.
 find_path(STB_INCLUDE_DIR stb/stb_image_write.h REQUIRED)
 find_library(STB_LIBRARY stb REQUIRED)
 add_library(woven_stb INTERFACE)

@@ -1,8 +1,8 @@
 // woven report DIR: one self-contained DIR/report.html for a sweep folder (its sweep.json and
-// point folders) or for one output folder of drape, cusick or kes-test: the tables (sortable),
-// plots (the main number against the fabric's bending length or the first numeric axis, seeds
-// as error bars; wall time against particles; KES curves, simulated against input), every
-// picture inlined, and a 3-D view of each drape (three.js from Debian's libjs-three, inlined).
+// point folders) or for one output folder of drape, cusick, kes-test, fit or an experiment: the
+// table (sortable), a section per kind of folder with the plots its users read (render/plot's
+// cairo SVG, each with its data and axis frame), every picture inlined, and a 3-D view of each
+// drape.glb / cusick.glb (three.js and its GLTFLoader from Debian's libjs-three, inlined).
 // Every folder is verified first (woven check's test): a broken folder is a one-line error and
 // no page.
 #include <algorithm>
@@ -863,10 +863,11 @@ void add_report_command(CLI::App& app, int& exit_code)
 {
     auto o = std::make_shared<ReportOptions>();
     CLI::App* sub = app.add_subcommand("report", "Write one self-contained report.html for a sweep or an output folder");
-    sub->footer("DIR is a sweep folder (woven sweep) or an output folder of drape, cusick or kes-test. The page holds the table "
-                "(click a header to sort), plots (SVG), the pictures and a 3-D view of each drape (three.js from libjs-three), all "
-                "inlined: it opens from a file without a network. Every folder is verified first (as woven check does); a broken one "
-                "is an error and no page is written.");
+    sub->footer("DIR is a sweep folder (woven sweep) or an output folder of drape, cusick, kes-test, fit or experiment. The page holds "
+                "the table (click a header to sort), a section per kind of folder with its plots (SVG, each with its data), the pictures "
+                "and a 3-D view of each drape.glb or cusick.glb coloured by any per-vertex field (three.js from libjs-three), all inlined: "
+                "it opens from a file without a network. Every folder is verified first (as woven check does); a broken one is an error "
+                "and no page is written.");
     sub->add_option("DIR", o->dir, "The folder")->required();
     sub->callback([o, &exit_code] { exit_code = run_report(*o); });
 }
