@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(cmake ninja-build g++ make pkg-config
   libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
-  libtinygltf-dev python3-jsonschema python3-meshio assimp-utils
+  libtinygltf-dev libssl-dev python3-jsonschema python3-meshio assimp-utils
   libstb-dev libembree-dev libtbb-dev libsuitesparse-dev libopenblas0-pthread
   libgtest-dev libgmock-dev libbenchmark-dev time libbullet-dev
   clang libclang-rt-14-dev

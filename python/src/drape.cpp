@@ -6,10 +6,10 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
-#include "woven/analysis/vertex_fields.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/drape_run.hpp"
 #include "woven/cli/progress.hpp"
+#include "woven/io/drape_files.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/sha256.hpp"
 #include "woven/io/values.hpp"
@@ -298,8 +298,13 @@ fields are per grid particle, as in drape.ply. save(dir) writes the files `woven
         .def_property_readonly("fields", [](const DrapeResult& r) {
             const cli::DrapeSetup& s = *r.setup;
             py::dict d;
-            for (const auto& f : analysis::vertex_fields(*s.model, s.scene.obstacles, r.run->result.x, s.scene.solver.contact_distance,
-                                                          s.scene.solver.friction).list())
+            io::DrapeMeshes meshes;
+            meshes.x = &r.run->result.x;
+            meshes.model = &*s.model;
+            meshes.obstacles = &s.scene.obstacles;
+            meshes.contact_distance = s.scene.solver.contact_distance;
+            meshes.friction = s.scene.solver.friction;
+            for (const auto& f : io::drape_vertex_fields(meshes).list())
                 d[py::str(f.name)] = py::array_t<double>(static_cast<py::ssize_t>(f.values.size()), f.values.data());
             return d;
         }, "Per-particle fields, as drape.ply holds them (SI units): strain_warp, strain_weft, trellis_angle, curvature_warp, "

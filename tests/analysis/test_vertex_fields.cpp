@@ -9,6 +9,7 @@
 #include "sim/sim_fixtures.hpp"
 #include "woven/analysis/vertex_fields.hpp"
 #include "woven/geometry/primitives.hpp"
+#include "woven/sim/drape.hpp"
 
 using namespace woven;
 
@@ -98,7 +99,7 @@ TEST(VertexFields, FlatClothAtRestCarriesItsWeightUnlessAPlaneHoldsIt)
     // In the air every force but gravity vanishes at rest: |F| = m_p g, each particle its own mass
     // (to the round-off of the spacings, which the stiff threads turn into ~1e-12 N).
     const double weight = model.particle_mass() * model.gravity();
-    const auto free = analysis::vertex_fields(model, geometry::ObstacleSet{}, x, 1e-3);
+    const auto free = analysis::vertex_fields(model, geometry::ObstacleSet{}, x, 1e-3, sim::residual_forces(model, geometry::ObstacleSet{}, x, 1e-3));
     for (std::size_t p = 0; p < x.size(); ++p) {
         EXPECT_NEAR(free.residual_force[p], model.mass(static_cast<int>(p)) * model.gravity(), 1e-6 * weight) << p;
         EXPECT_EQ(free.contact[p], 0.0);
@@ -106,7 +107,7 @@ TEST(VertexFields, FlatClothAtRestCarriesItsWeightUnlessAPlaneHoldsIt)
     // A floor 0.5 mm below, within the contact distance of 1 mm: it holds the weight.
     geometry::ObstacleSet floor;
     floor.add(std::make_unique<geometry::Plane>(Vec3(0, 0, 0.4995), Vec3(0, 0, 1)));
-    const auto held = analysis::vertex_fields(model, floor, x, 1e-3);
+    const auto held = analysis::vertex_fields(model, floor, x, 1e-3, sim::residual_forces(model, floor, x, 1e-3));
     for (std::size_t p = 0; p < x.size(); ++p) {
         EXPECT_EQ(held.contact[p], 1.0) << p;
         EXPECT_NEAR(held.residual_force[p], 0.0, 1e-6 * weight) << p;
@@ -114,7 +115,7 @@ TEST(VertexFields, FlatClothAtRestCarriesItsWeightUnlessAPlaneHoldsIt)
     // The floor 2 mm below, past the contact distance: no contact, the weight is a residual again.
     geometry::ObstacleSet low;
     low.add(std::make_unique<geometry::Plane>(Vec3(0, 0, 0.498), Vec3(0, 0, 1)));
-    const auto apart = analysis::vertex_fields(model, low, x, 1e-3);
+    const auto apart = analysis::vertex_fields(model, low, x, 1e-3, sim::residual_forces(model, low, x, 1e-3));
     for (std::size_t p = 0; p < x.size(); ++p) EXPECT_EQ(apart.contact[p], 0.0) << p;
     EXPECT_NEAR(apart.residual_force[0], model.mass(0) * model.gravity(), 1e-6 * weight);
 }

@@ -1,5 +1,4 @@
-// Issue 13 (reliability), one test per defect, run on the real binary (WOVEN_BINARY) in a
-// temporary directory: no input crashes it, no bad input reports success, no run leaves a
+// Reliability, run on the real binary (WOVEN_BINARY) in a temporary directory: no input crashes it, no bad input reports success, no run leaves a
 // mixed or partial result. Tiny grids and few steps: the suite also runs under the sanitizers.
 #include <chrono>
 #include <cstdio>
@@ -57,8 +56,8 @@ nlohmann::json report(const fs::path& p) { return nlohmann::json::parse(slurp(p)
 
 }  // namespace
 
-// Defect 1: a 50,000-part dotted header overflowed toml++'s stack (SIGSEGV).
-TEST_F(Reliability, Defect01DeepTomlKeysAreOneLineExitTwo)
+// a 50,000-part dotted header overflowed toml++'s stack (SIGSEGV).
+TEST_F(Reliability, DeepTomlKeysAreOneLineExitTwo)
 {
     std::string deep = "[a";
     for (int k = 0; k < 50000; ++k) deep += ".a";
@@ -71,8 +70,8 @@ TEST_F(Reliability, Defect01DeepTomlKeysAreOneLineExitTwo)
     EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
-// Defects 2 and 3: implausible scene numbers are bad input naming the field, never a run.
-TEST_F(Reliability, Defect02And03ImplausibleSceneNumbersAreBadInput)
+// implausible scene numbers are bad input naming the field, never a run.
+TEST_F(Reliability, ImplausibleSceneNumbersAreBadInput)
 {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {replace(kTinyScene, "size_m = [0.3, 0.3]", "size_m = [1e300, 1e300]"), "cloth.size_m"},
@@ -92,8 +91,8 @@ TEST_F(Reliability, Defect02And03ImplausibleSceneNumbersAreBadInput)
     }
 }
 
-// Defect 4: OBJ numbers are checked; the message names the mesh file and line.
-TEST_F(Reliability, Defect04ObjNumbersAreChecked)
+// OBJ numbers are checked; the message names the mesh file and line.
+TEST_F(Reliability, ObjNumbersAreChecked)
 {
     const std::string scene = kTinyScene + "[[obstacle]]\ntype = \"mesh\"\nfile = \"m.obj\"\ntranslate_m = [0.5, 0.5, 0]\n";
     write(dir_ / "s.toml", scene);
@@ -112,8 +111,8 @@ TEST_F(Reliability, Defect04ObjNumbersAreChecked)
     }
 }
 
-// Defect 5: a fabric's name never makes a path that leaves out/.
-TEST_F(Reliability, Defect05FabricNamesCannotEscapeTheOutputFolder)
+// a fabric's name never makes a path that leaves out/.
+TEST_F(Reliability, FabricNamesCannotEscapeTheOutputFolder)
 {
     write(dir_ / "a.toml", replace(kFabric, "name = \"probe\"", "name = \"x/../../../escaped\""));
     write(dir_ / "b.toml", replace(kFabric, "name = \"probe\"", "name = \"/abs/path\""));
@@ -137,10 +136,10 @@ TEST_F(Reliability, Defect05FabricNamesCannotEscapeTheOutputFolder)
     }
 }
 
-// Defect 6: a set appears whole or not at all: a killed rerun leaves the previous complete
+// a set appears whole or not at all: a killed rerun leaves the previous complete
 // set; its temporaries are removed by the next run; a file that cannot be written fails before
 // anything changes; two runs sharing --out do not collide.
-TEST_F(Reliability, Defect06OutputSetsAreAtomic)
+TEST_F(Reliability, OutputSetsAreAtomic)
 {
     write(dir_ / "tiny.toml", kTinyScene);
     ASSERT_EQ(woven("drape tiny.toml --max-steps 2 --out res --width 64 --height 48").code, 0);
@@ -190,8 +189,8 @@ TEST_F(Reliability, Defect06OutputSetsAreAtomic)
     EXPECT_TRUE(complete_set("shared"));
 }
 
-// Defect 7: SIGTERM is treated like Ctrl-C: the state reached is written, exit 143.
-TEST_F(Reliability, Defect07SigtermWritesTheStateReached)
+// SIGTERM is treated like Ctrl-C: the state reached is written, exit 143.
+TEST_F(Reliability, SigtermWritesTheStateReached)
 {
     const pid_t pid = spawn({"drape", "cube", "--grid", "31", "--max-steps", "400", "--out", "res", "--no-render"});
     int status = 0;
@@ -209,8 +208,8 @@ TEST_F(Reliability, Defect07SigtermWritesTheStateReached)
     EXPECT_FALSE(j["converged"].get<bool>());
 }
 
-// Defect 8: Ctrl-C after the solve (while writing) marks the set interrupted, still complete.
-TEST_F(Reliability, Defect08InterruptWhileWritingMarksACompleteSet)
+// Ctrl-C after the solve (while writing) marks the set interrupted, still complete.
+TEST_F(Reliability, InterruptWhileWritingMarksACompleteSet)
 {
     write(dir_ / "tiny.toml", kTinyScene);
     const pid_t pid = spawn({"drape", "tiny.toml", "--max-steps", "1", "--out", "res", "--width", "1200", "--height", "900"});
@@ -227,8 +226,8 @@ TEST_F(Reliability, Defect08InterruptWhileWritingMarksACompleteSet)
     EXPECT_TRUE(report(dir_ / "res" / "report.json")["interrupted"].get<bool>());
 }
 
-// Defect 9: never more threads than cores available to the process; the report says how many.
-TEST_F(Reliability, Defect09ThreadsAreCappedAtTheCoresAvailable)
+// never more threads than cores available to the process; the report says how many.
+TEST_F(Reliability, ThreadsAreCappedAtTheCoresAvailable)
 {
     write(dir_ / "tiny.toml", kTinyScene);
     const Outcome r = woven("drape tiny.toml --max-steps 1 --threads 2 --out res --no-render", "taskset -c 0 ");
@@ -245,8 +244,8 @@ TEST_F(Reliability, Defect09ThreadsAreCappedAtTheCoresAvailable)
     EXPECT_EQ(j["threads_requested"], 0);
 }
 
-// Defect 10: command-line values get short one-line errors in the documented form.
-TEST_F(Reliability, Defect10CommandLineValues)
+// command-line values get short one-line errors in the documented form.
+TEST_F(Reliability, CommandLineValuesAreCheckedAgainstTheirRanges)
 {
     write(dir_ / "tiny.toml", kTinyScene);
     const std::vector<std::pair<std::string, std::string>> cases = {
@@ -284,9 +283,9 @@ TEST_F(Reliability, Defect10CommandLineValues)
     EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
-// Defect 11: the same ranges for a curve's slope as for a summary value; a directory is not a
+// the same ranges for a curve's slope as for a summary value; a directory is not a
 // fabric file; errors of the fitting stage name the file.
-TEST_F(Reliability, Defect11FabricChecks)
+TEST_F(Reliability, FabricsTheFitCannotUseAreBadInput)
 {
     const std::string flat = replace(kFabric, "B = 0.05\n2HB = 0.02\n",
                                      "curvature_per_cm = [0.0, 0.5, 1.0, 1.5, 2.0, 2.5]\n"
@@ -302,9 +301,9 @@ TEST_F(Reliability, Defect11FabricChecks)
     EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
-// Defect 12: a drape the process cannot hold is refused before it starts, with the estimate
+// a drape the process cannot hold is refused before it starts, with the estimate
 // and the limit.
-TEST_F(Reliability, Defect12MemoryIsEstimatedBeforeTheRun)
+TEST_F(Reliability, MemoryIsEstimatedBeforeTheRun)
 {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit set here";
@@ -320,8 +319,8 @@ TEST_F(Reliability, Defect12MemoryIsEstimatedBeforeTheRun)
 #endif
 }
 
-// Defect 13: an empty scene file is an error (the choice documented in docs/SCENE-FORMAT.md).
-TEST_F(Reliability, Defect13AnEmptySceneIsAnError)
+// an empty scene file is an error (the choice documented in docs/SCENE-FORMAT.md).
+TEST_F(Reliability, AnEmptySceneIsAnError)
 {
     write(dir_ / "empty.toml", "");
     const Outcome r = woven("drape empty.toml");
@@ -330,9 +329,9 @@ TEST_F(Reliability, Defect13AnEmptySceneIsAnError)
                      "[[obstacle]]\n");
 }
 
-// Defect 14: without a terminal, progress starts at once (step 1 is shown) and moves within
+// without a terminal, progress starts at once (step 1 is shown) and moves within
 // steps (a line per Newton iteration, about every 0.5 s), not once per step.
-TEST_F(Reliability, Defect14ProgressWithoutATerminal)
+TEST_F(Reliability, ProgressWithoutATerminalIsOneLinePerEvent)
 {
     const Outcome r = woven("drape cube --grid 41 --max-steps 3 --out res --no-render");  // three steps show it
     ASSERT_EQ(r.code, 0) << r.err;
@@ -410,7 +409,7 @@ TEST_F(Reliability, EveryBadInputClassKeepsTheDocumentedForm)
     EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
-// Issue 11's perturbation from the command line and the scene: recorded with the seed in the
+// The perturbation from the command line and the scene: recorded with the seed in the
 // report; the same seed gives the same bits, another seed another start.
 TEST_F(Reliability, PerturbationIsSeededAndReported)
 {

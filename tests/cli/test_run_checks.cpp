@@ -16,7 +16,7 @@ using namespace woven;
 
 TEST(RunChecks, NoReportWithANonFiniteNumber)
 {
-    // Defect 2: a report claiming convergence with null energies was written; now the run fails.
+    // a report claiming convergence with null energies was written; now the run fails.
     nlohmann::json r = {{"converged", true}, {"energy", {{"total_J", 0.5}}}, {"folds", nullptr}};
     EXPECT_NO_THROW(cli::require_finite(r, "the drape", {"folds"}));
     r["energy"]["total_J"] = nullptr;  // what a non-finite number becomes in JSON
@@ -37,7 +37,7 @@ TEST(RunChecks, NoReportWithANonFiniteNumber)
 
 TEST(RunChecks, ThreadsNeverExceedTheCoresAvailable)
 {
-    // Defect 9: the request is capped at the cores of the affinity mask (and cgroup quota).
+    // the request is capped at the cores of the affinity mask (and cgroup quota).
     const int cores = cli::available_cores();
     EXPECT_GE(cores, 1);
     EXPECT_EQ(cli::threads_to_use(0), cores);
@@ -47,7 +47,7 @@ TEST(RunChecks, ThreadsNeverExceedTheCoresAvailable)
 
 TEST(RunChecks, MemoryEstimateFollowsTheMeasuredPeaks)
 {
-    // Defect 12: the fits through the peak RSS measured with /usr/bin/time (docs/RELIABILITY.md,
+    // the fits through the peak RSS measured with /usr/bin/time (docs/RELIABILITY.md,
     // `woven drape cube --grid N --threads T --max-steps 2 --no-render`, kB of 1024 bytes): one
     // thread 51x51 33,264 kB, 101x101 95,936, 151x151 219,584, 201x201 385,032, 251x251 617,428;
     // two threads 35,984, 108,152, 243,012, 420,800, 677,316. The estimate carries a 25 % margin.
@@ -69,7 +69,7 @@ TEST(RunChecks, MemoryEstimateFollowsTheMeasuredPeaks)
 
 TEST(RunChecks, ProgressBarFollowsTheResidualDownToTheTolerance)
 {
-    // Defect 14: the bar measures log(r0 / r) / log(r0 / tolerance), whatever the step limit.
+    // the bar measures log(r0 / r) / log(r0 / tolerance), whatever the step limit.
     cli::Progress p(400, 1e-3);
     EXPECT_DOUBLE_EQ(p.fraction(1.0), 0.0);  // the first residual seen
     EXPECT_NEAR(p.fraction(0.1), 1.0 / 3.0, 1e-12);
@@ -82,7 +82,7 @@ TEST(RunChecks, ProgressBarFollowsTheResidualDownToTheTolerance)
 
 TEST(RunChecks, FittingErrorsNameTheFabricFile)
 {
-    // Defect 11: "fabric 'probe': bending.warp: ..." from the fitting stage names the file.
+    // "fabric 'probe': bending.warp: ..." from the fitting stage names the file.
     try {
         cli::with_fabric_source("probe.toml", [] { throw InputError("fabric 'probe'", "bending.warp", "cannot fit"); });
         FAIL();
@@ -93,7 +93,7 @@ TEST(RunChecks, FittingErrorsNameTheFabricFile)
     EXPECT_EQ(cli::fabric_source("a/b.toml"), "a/b.toml");
 }
 
-// Issue 36, defect 3: every table a command writes is checked finite before it is published.
+// Every table a command writes is checked finite before it is published.
 TEST(RunChecks, NoTableWithANonFiniteNumber)
 {
     EXPECT_NO_THROW(cli::require_finite_csv("a,b\n1,2\nsimulated,3e-5\n", "t.csv", "fit"));

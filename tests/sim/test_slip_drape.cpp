@@ -38,7 +38,7 @@ model::ModelOptions with(model::Hysteresis h)
 sim::Result drape(model::ClothModel& m, const CubeScene& s, bool evolve = true)
 {
     sim::Problem p{&m, &s.obstacles, s.start, {}};
-    if (evolve) p.slip = &m;
+    if (evolve) p.model = sim::ClothRef::evolving(m);
     return sim::drape(p, sim::SolverOptions{});
 }
 
@@ -109,14 +109,15 @@ TEST(SlipDrape, NoHysteresisWidthDrapesAsTheLoadingBranchBitForBit)
     EXPECT_EQ(sim::max_displacement(a.x, b.x), 0.0);
 }
 
-TEST(SlipDrape, SlipMustBeTheProblemsModel)
+TEST(SlipDrape, OnlyAnEvolvingClothChangesItsSlipStates)
 {
     const CubeScene s;
-    const model::ClothModel m = model::make_cloth_model(test::cotton_like(), s.grid, with(model::Hysteresis::FRICTION));
-    model::ClothModel other = model::make_cloth_model(test::cotton_like(), s.grid, with(model::Hysteresis::FRICTION));
-    sim::Problem p{&m, &s.obstacles, s.start, {}};
-    p.slip = &other;
-    EXPECT_THROW(sim::drape(p, sim::SolverOptions{}), InputError);
+    model::ClothModel m = model::make_cloth_model(test::cotton_like(), s.grid, with(model::Hysteresis::FRICTION));
+    const std::vector<model::SlipState> before = m.shear_slip();
+    drape(m, s, false);
+    EXPECT_TRUE(m.shear_slip() == before);
+    drape(m, s, true);
+    EXPECT_FALSE(m.shear_slip() == before);
 }
 
 }  // namespace

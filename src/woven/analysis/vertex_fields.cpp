@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "woven/common/error.hpp"
 #include "woven/model/curvature.hpp"
-#include "woven/sim/drape.hpp"
 
 namespace woven::analysis {
 
@@ -40,8 +40,10 @@ std::vector<VertexField> VertexFields::list() const
 }
 
 VertexFields vertex_fields(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
-                           double contact_distance, double friction)
+                           double contact_distance, const Positions& residual_forces)
 {
+    if (!residual_forces.empty() && residual_forces.size() != x.size())
+        throw InputError("", "residual_forces", "needs one force per particle, or none");
     const model::Grid& grid = model.grid();
     const model::Stencils& st = model.stencils();
     const std::size_t n = x.size();
@@ -81,8 +83,8 @@ VertexFields vertex_fields(const model::ClothModel& model, const geometry::Obsta
         for (std::size_t k = 0; k < obstacles.size(); ++k) nearest = std::min(nearest, obstacles[k].distance(x[p]));
         f.contact[p] = nearest < contact_distance ? 1.0 : 0.0;
     }
-    const Positions force = sim::residual_forces(model, obstacles, x, contact_distance, friction);
-    for (int p : st.particles) f.residual_force[p] = force[p].norm();
+    if (!residual_forces.empty())
+        for (int p : st.particles) f.residual_force[p] = residual_forces[p].norm();
     return f;
 }
 

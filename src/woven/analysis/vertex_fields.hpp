@@ -34,8 +34,8 @@ struct VertexFields {
     std::vector<double> curvature_warp, curvature_weft;
     /// 1 where the particle is within the contact distance of an obstacle, else 0.
     std::vector<double> contact;
-    /// |F|, the residual force on the particle (N): -dE/dx less what the obstacles can hold
-    /// (sim::residual_forces); 0 at equilibrium, up to the solver's tolerance.
+    /// |F|, the residual force on the particle (N), as given (the solver's residual: -dE/dx
+    /// less what the obstacles can hold; 0 at equilibrium, up to the solver's tolerance).
     std::vector<double> residual_force;
 
     /// The fields above with their names and units, in this order: strain_warp, strain_weft,
@@ -44,8 +44,9 @@ struct VertexFields {
 };
 
 /// The fields of the state x (one position per grid particle, m) of `model` among `obstacles`;
-/// contact distance (m) and friction as the solver had them.
+/// the contact distance (m) as the solver had it, and the residual force on each particle (N,
+/// one per grid particle; empty: zero).
 VertexFields vertex_fields(const model::ClothModel& model, const geometry::ObstacleSet& obstacles, const Positions& x,
-                           double contact_distance, double friction = 0.0);
+                           double contact_distance, const Positions& residual_forces = {});
 
 }  // namespace woven::analysis

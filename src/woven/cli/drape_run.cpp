@@ -82,8 +82,7 @@ std::unique_ptr<DrapeSetup> prepare_drape(const DrapeOptions& options, std::vect
         d.cut = scene.cloth.cut(scene.source_path);
         with_fabric_source(fabric_src, [&] { d.model.emplace(model::make_cloth_model(d.fabric, d.grid, scene.model, d.cut->active, d.cut->area)); });
     }
-    d.problem.model = &*d.model;
-    if (d.model->has_slip()) d.problem.slip = &*d.model;  // friction: the states evolve with the drape
+    d.problem.model = sim::ClothRef::evolving(*d.model);  // friction: the states evolve with the drape
     d.problem.obstacles = &scene.obstacles;
     d.problem.initial = scene.cloth.initial_positions();
     // A start instead of the scene's: a drape read back (--start) or positions (Python); the

@@ -8,6 +8,7 @@
 #include "woven/geometry/display_surface.hpp"
 #include "woven/io/gltf_file.hpp"
 #include "woven/io/surface_file.hpp"
+#include "woven/sim/solver_support.hpp"
 
 namespace woven::io {
 
@@ -17,6 +18,12 @@ namespace {
 double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 }  // namespace
+
+analysis::VertexFields drape_vertex_fields(const DrapeMeshes& d)
+{
+    return analysis::vertex_fields(*d.model, *d.obstacles, *d.x, d.contact_distance,
+                                   sim::residual_forces(*d.model, *d.obstacles, *d.x, d.contact_distance, d.friction));
+}
 
 void add_drape_meshes(OutputSet& set, const DrapeMeshes& d)
 {
@@ -31,7 +38,7 @@ void add_drape_meshes(OutputSet& set, const DrapeMeshes& d)
         cloth.double_sided = true;
         meshes.push_back(std::move(cloth));
     } else {
-        const auto fields = analysis::vertex_fields(*d.model, *d.obstacles, *d.x, d.contact_distance, d.friction).list();
+        const auto fields = drape_vertex_fields(d).list();
         // As every number of a run's outputs: none non-finite (run_checks.hpp's rule).
         for (const auto& f : fields)
             for (std::size_t p = 0; p < f.values.size(); ++p)

@@ -3,9 +3,11 @@
 // per-particle fields of analysis/vertex_fields.hpp in the PLY and the glTF.
 #include <array>
 #include <optional>
+
 #include <string>
 #include <vector>
 
+#include "woven/analysis/vertex_fields.hpp"
 #include "woven/common/types.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
@@ -30,6 +32,10 @@ struct DrapeMeshes {
     std::string cut_comment;  ///< drape.obj's header comment for a cut cloth
     std::optional<std::array<double, 3>> color;  ///< the fabric's display colour, sRGB in 0..1
 };
+
+/// The per-particle fields of a drape (analysis/vertex_fields.hpp), its residual forces those the
+/// solver measures (sim::residual_forces) with the drape's contact distance and friction.
+analysis::VertexFields drape_vertex_fields(const DrapeMeshes& d);
 
 /// Adds drape.obj, drape.ply (the grid; not for a cut cloth) and drape.glb (the cloth and the
 /// obstacles, gltf_file.hpp) to `set`. RuntimeError when a field is not finite (nothing is added

@@ -1,5 +1,6 @@
 #pragma once
-// SHA-256 (FIPS 180-4) of a byte string, for the checksums of an output set's manifest.
+// SHA-256 (FIPS 180-4, computed by OpenSSL) of a byte string: the checksums of an output set's
+// manifest and of start files.
 #include <string>
 #include <string_view>
 

@@ -54,8 +54,6 @@ Result drape(const Problem& problem, const SolverOptions& options, const Progres
         if (!p.allFinite()) throw InputError("", "initial", "positions must be finite");
     for (int p : problem.pinned)
         if (p < 0 || p >= problem.model->grid().size()) throw InputError("", "pinned", "particle index out of range");
-    if (problem.slip && problem.slip != problem.model)
-        throw InputError("", "slip", "must be the problem's model (its friction states evolve with the drape)");
     const FastSolverOptions& fo = options.fast;
     if (!(fo.creep_softening > 0) || !std::isfinite(fo.creep_softening))
         throw InputError("", "fast.creep_softening", "must be a finite number above 0 (1 or less: off)");

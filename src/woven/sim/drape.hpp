@@ -44,14 +44,12 @@ struct LineSearchOptions {
 };
 
 /// Settings of the fast solver (fast_solver.cpp) beyond the shared ones, with their units; each
-/// field's measured effect: docs/SOLVER.md "Every option".
+/// field's measured effect: docs/SOLVER.md "Every option" (which also lists the solver's fixed
+/// constants: step limits, floors, the barrier, the line search).
 struct FastSolverOptions {
     int max_newton_iterations = 120;  ///< per step; a step that needs more is halved
-    double max_time_step = 20.0;      ///< s: the largest step, effectively static
-    double min_time_step = 1e-4;      ///< s: the smallest step after halvings
     double static_time_step = 1.0;    ///< s: from this step on, Newton is solved to the final tolerance
     double step_growth = 2.0;         ///< step factor after a converged Newton solve
-    double step_shrink = 0.5;         ///< step factor after one that did not converge
     double damping = 2.0;             ///< 1/s: viscous medium, v <- v / (1 + damping h)
     double dynamic_tolerance = 0.1;   ///< Newton tolerance of dynamic steps, residual force / (m g)
     /// a dynamic step's Newton has also converged when no particle moves more than this, in
@@ -62,14 +60,8 @@ struct FastSolverOptions {
     /// sigma is 6e-4 of its side; on the 101 x 101 cube 0.05 sigma took 568 -> 403 Newton
     /// iterations and a lower drape; 201 x 201 was not faster, bench/NOTES.md "the fall's path tolerance")
     double dynamic_step_cloth_fraction = 5e-4;
-    double static_tolerance_factor = 0.5;  ///< static Newton tolerance, times residual_tolerance (below the equilibrium test's, which lets obstacles push)
-    double min_newton_step = 1e-10;   ///< m: a Newton step whose largest particle move is below this has converged
     double trust_region = 1.0;        ///< largest particle move per Newton iteration, in sigma
-    double collision_safety = 0.8;    ///< fraction of the collision-free step taken (contact.hpp)
-    double barrier_stiffness = 10.0;  ///< kappa = this m g / d^ (an interior particle's weight held at about 0.7 d^)
-    double friction_slip = 1e-4;      ///< m: slip below which friction sticks (smoothing of Coulomb's law)
-    double cg_tolerance = 1e-6;       ///< linear solves: |H d + g| <= this |g| (linear_solver.hpp)
-    double dynamic_cg_tolerance = 1e-6;  ///< the same in dynamic steps (an inexact Newton forcing term; 0.1 saves factorisations but moves the drape)
+    double dynamic_cg_tolerance = 1e-6;  ///< linear solves of dynamic steps: |H d + g| <= this |g| (an inexact Newton forcing term; 0.1 saves factorisations but moves the drape)
     /// ... and in the static steps' projected Newton (far from rest, above static_newton_cg_below):
     /// a stale factor then preconditions CG to this often enough to skip a factorisation. The
     /// same drapes; 201 x 201 1554 -> 927 factorisations, 12 % less CPU; 101 x 101 3-4 %;
@@ -98,7 +90,6 @@ struct FastSolverOptions {
     double creep_stage_ratio = 10.0;  ///< 100 (one stage) took 1531 iterations: the stiff threads crept again
     int creep_capped_steps = 2;       ///< 101 x 101 runs into the cap once, near rest
     double creep_tolerance = 0.1;
-    LineSearchOptions line_search;
 };
 
 /// Settings of the paper solver (paper_solver.cpp) beyond the shared ones, with their units.
@@ -143,19 +134,39 @@ struct SolverOptions {
     PaperSolverOptions paper;
 };
 
+/// The cloth of a problem, held once: read-only (a model with friction inside the weave keeps
+/// its slip states as they are) or evolving (`evolving`: the fast solver updates its slip states
+/// by the return mapping after each step, ClothModel::update_slip, so that each step minimises
+/// an energy with its states fixed and the path is remembered; the states are not reset, so a
+/// protocol of several drapes carries them on).
+class ClothRef {
+public:
+    ClothRef() = default;
+    ClothRef(const model::ClothModel* model) : model_(model) {}  // NOLINT(google-explicit-constructor): read as a pointer
+    static ClothRef evolving(model::ClothModel& model)
+    {
+        ClothRef r(&model);
+        r.evolving_ = true;
+        return r;
+    }
+    const model::ClothModel* get() const { return model_; }
+    const model::ClothModel& operator*() const { return *model_; }
+    const model::ClothModel* operator->() const { return model_; }
+    explicit operator bool() const { return model_ != nullptr; }
+    /// The model whose slip states the solver updates; null when read-only.
+    model::ClothModel* evolving_model() const { return evolving_ ? const_cast<model::ClothModel*>(model_) : nullptr; }
+
+private:
+    const model::ClothModel* model_ = nullptr;
+    bool evolving_ = false;  ///< only `evolving`, from a writable model, sets it
+};
+
 /// What to drape: the model, the obstacles, the start and the pinned particles.
 struct Problem {
-    const model::ClothModel* model = nullptr;
+    ClothRef model;
     const geometry::ObstacleSet* obstacles = nullptr;
     Positions initial;
     std::vector<int> pinned;  ///< particles held at their initial positions
-    /// Friction inside the weave (model::Hysteresis::FRICTION, slip.hpp): the model whose slip
-    /// states the fast solver updates by the return mapping after each step
-    /// (ClothModel::update_slip), so that each step minimises an energy with its states fixed and
-    /// the path is remembered; it must be `model` itself. The states are not reset: a protocol
-    /// of several drapes carries them on. Null: they stay as they are (a model without friction
-    /// needs none).
-    model::ClothModel* slip = nullptr;
 };
 
 /// Progress after each step; the callback returns false to stop (Ctrl-C): the state reached

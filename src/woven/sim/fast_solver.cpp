@@ -7,7 +7,7 @@
 // a thread folded flat, contact). The step h doubles while Newton converges, so the
 // cloth first falls and swings (a physical path) and then settles; the run ends when the
 // largest residual force on a free particle is below the tolerance times its weight. With
-// friction inside the weave (Problem::slip) the slip states are updated between steps.
+// friction inside the weave (ClothRef::evolving) the slip states are updated between steps.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,6 +23,19 @@
 #include "woven/sim/solvers.hpp"
 
 namespace woven::sim::detail {
+
+// The solver's fixed constants (docs/SOLVER.md "Every option": none was ever varied by a test, a
+// scene or a benchmark drape).
+constexpr double kMaxTimeStep = 20.0;           // s: the largest step, effectively static
+constexpr double kMinTimeStep = 1e-4;           // s: the smallest step after halvings
+constexpr double kStepShrink = 0.5;             // step factor after a Newton solve that did not converge
+constexpr double kStaticToleranceFactor = 0.5;  // static Newton tolerance, times residual_tolerance (below the equilibrium test's, which lets obstacles push)
+constexpr double kMinNewtonStep = 1e-10;        // m: a Newton step whose largest particle move is below this has converged
+constexpr double kCollisionSafety = 0.8;        // fraction of the collision-free step taken (contact.hpp)
+constexpr double kBarrierStiffness = 10.0;      // kappa = this m g / d^ (an interior particle's weight held at about 0.7 d^)
+constexpr double kFrictionSlip = 1e-4;          // m: slip below which obstacle friction sticks (Coulomb smoothed)
+constexpr double kCgTolerance = 1e-6;           // linear solves near rest: |H d + g| <= this |g| (linear_solver.hpp)
+constexpr LineSearchOptions kLineSearch{};      // Armijo backtracking (line_search.hpp)
 
 namespace {
 
@@ -52,13 +65,13 @@ struct FastSolver {
     double stretch_weight = 1.0;
 
     FastSolver(const Problem& problem, const SolverOptions& o)
-        : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem)), mass(model.masses()), slip_eps(o.fast.friction_slip), pairs(model)
+        : model(*problem.model), obstacles(*problem.obstacles), options(o), pinned(pinned_mask(problem)), mass(model.masses()), slip_eps(kFrictionSlip), pairs(model)
     {
         const double g = model.gravity() > 0 ? model.gravity() : units::kStandardGravity;
         for (double m : mass) weight.push_back(m * g);
         // An interior particle's weight is held at about 0.7 d^ above a surface; an edge carrying
         // a hanging flap comes closer but never touches.
-        barrier = Barrier{options.contact_distance, o.fast.barrier_stiffness * (model.particle_mass() * g) / options.contact_distance};
+        barrier = Barrier{options.contact_distance, kBarrierStiffness * (model.particle_mass() * g) / options.contact_distance};
     }
 
     /// Phi at x (inertia toward x_tilde with 1/h^2 = inv_h2); +inf if any term is singular.
@@ -139,7 +152,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         if (x[i] != problem.initial[i] && gap(x[i]) < std::min(solver.barrier.d_hat, gap(problem.initial[i]))) x[i] = problem.initial[i];
     Positions v(n, Vec3::Zero()), x_tilde(n), x_prev, trial(n), dx(n);
     SparseAssembly system(model.stencils(), solver.pinned);
-    NewtonLinearSolver linear(NewtonLinearSolver::Options{fo.cg_tolerance, fo.max_cg_iterations});
+    NewtonLinearSolver linear(NewtonLinearSolver::Options{kCgTolerance, fo.max_cg_iterations});
     Eigen::VectorXd delta, rhs, solution;  // delta in particle order; rhs, solution in the matrix's (assembly.hpp)
     std::vector<model::Stencil<2>> extra_pairs;
 
@@ -167,7 +180,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             solver.stretch_weight = 1.0 / softening;
         }
         double newton_tolerance = !static_step ? std::max(fo.dynamic_tolerance, options.residual_tolerance)
-                                                          : fo.static_tolerance_factor * options.residual_tolerance;
+                                                          : kStaticToleranceFactor * options.residual_tolerance;
         if (static_step && softening > 1.0) newton_tolerance = std::max(newton_tolerance, fo.creep_tolerance);
 
         // Newton on Phi.
@@ -212,7 +225,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
                     return system.matrix();
                 };
                 system.to_matrix_order(-g, rhs);
-                linear.solve_exact(matrix, rhs, solution, fo.cg_tolerance);
+                linear.solve_exact(matrix, rhs, solution, kCgTolerance);
             } else {
                 linear.set_tolerance(static_step ? fo.static_projected_cg_tolerance : fo.dynamic_cg_tolerance);
                 system.to_matrix_order(-g, rhs);
@@ -227,20 +240,20 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
             // A dynamic step needs its path, not its forces, resolved: with stiff threads the
             // residual force falls slowly (a step across the cloth of 1 % sigma leaves a
             // second-order stretch of hundreds of m g) while the positions have settled.
-            if (step_max < fo.min_newton_step || (!static_step && step_max < move_tolerance)) {
+            if (step_max < kMinNewtonStep || (!static_step && step_max < move_tolerance)) {
                 newton_converged = true;
                 break;
             }
             // Accept: inside the trust region (no particle moves more than trust_region sigma)
             // and the collision-free fraction, the Armijo line search on Phi.
             double alpha = std::min(1.0, fo.trust_region * sigma / step_max);
-            alpha = std::min(alpha, collision_free_fraction(solver.obstacles, x, dx, fo.collision_safety));
+            alpha = std::min(alpha, collision_free_fraction(solver.obstacles, x, dx, kCollisionSafety));
             const LineSearchResult ls = line_search(
                 [&](double a) {
                     for (int i = 0; i < n; ++i) trial[i] = x[i] + a * dx[i];
                     return solver.incremental_potential(trial, x_tilde, inv_h2);
                 },
-                phi, g.dot(delta), alpha, fo.line_search);
+                phi, g.dot(delta), alpha, kLineSearch);
             if (!ls.accepted) break;  // no descent left at round-off level
             x.swap(trial);
             phi = ls.value;
@@ -250,7 +263,7 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         // Friction inside the weave: the return mapping at the step's end state (slip.hpp). It
         // leaves each element's force at x as it is (so the residual below is the step's), and
         // the next step minimises with the new states (an elastoplastic solver's update).
-        if (problem.slip && model.has_slip()) problem.slip->update_slip(x);
+        if (model::ClothModel* evolving = problem.model.evolving_model(); evolving && model.has_slip()) evolving->update_slip(x);
         if (static_step && softening == 1.0 && iterations >= fo.max_newton_iterations) ++capped_static_steps;
 
         for (int i = 0; i < n; ++i) v[i] = solver.pinned[i] ? Vec3::Zero() : Vec3((x[i] - x_prev[i]) / h / (1.0 + fo.damping * h));
@@ -284,8 +297,8 @@ Result fast_drape(const Problem& problem, const SolverOptions& options, const Pr
         // short steps, and the steps lengthen (and damp more) as it settles. Growing only
         // after easy solves (<= 15 iterations) took 2.5 times the Newton iterations on the
         // 51 x 51 cube.
-        if (newton_converged) h = std::min(fo.step_growth * h, fo.max_time_step);
-        else h = std::max(fo.step_shrink * h, fo.min_time_step);
+        if (newton_converged) h = std::min(fo.step_growth * h, kMaxTimeStep);
+        else h = std::max(kStepShrink * h, kMinTimeStep);
     }
     result.x = std::move(x);
     result.energy = model.evaluate(result.x);

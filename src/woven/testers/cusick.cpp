@@ -152,8 +152,7 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     const CusickSetup setup = make_cusick_setup(options);
     model::ClothModel model = model::make_cloth_model(fabric, setup.grid, options.model, setup.cut.active, setup.cut.area);
     sim::Problem problem;
-    problem.model = &model;
-    if (model.has_slip()) problem.slip = &model;  // friction: the states evolve with the drape
+    problem.model = sim::ClothRef::evolving(model);  // friction: the states evolve with the drape
     problem.obstacles = &setup.obstacles;
     problem.initial = setup.initial;
     problem.pinned = setup.clamped;

@@ -1,5 +1,5 @@
-// Issue 36: every command as safe as `drape`, one test per defect, run on the real binary
-// (WOVEN_BINARY) in a temporary directory. Small specimens and grids, few steps.
+// Every command as safe as `drape` with bad input, signals and full disks, run on the real
+// binary (WOVEN_BINARY) in a temporary directory. Small specimens and grids, few steps.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -34,7 +34,7 @@ using woven::test::replace;
 using woven::test::slurp;
 using woven::test::write;
 
-class Issue36 : public woven::test::SpawningProcessTest {};
+class CommandHardening : public woven::test::SpawningProcessTest {};
 
 /// A 2 x 2 corner map (the cells `experiment map --map-grid 2x2` asks for), each cell's folds given.
 std::string corner_map(const std::string& folds, const std::string& converged = "true")
@@ -49,10 +49,10 @@ std::string corner_map(const std::string& folds, const std::string& converged = 
 
 }  // namespace
 
-// Defect 1: the --reuse file is input like any other: an empty corner list (a segfault), a
+// the --reuse file is input like any other: an empty corner list (a segfault), a
 // short standout_m list (read out of bounds, exit 0), a missing list or a string for a boolean
 // (raw library text, exit 1) are one-line errors naming the field, exit 2, nothing written.
-TEST_F(Issue36, Defect01ReuseJsonIsCheckedInput)
+TEST_F(CommandHardening, ReuseJsonIsCheckedInput)
 {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {corner_map("{\"corners\": []}"), "m.json: cells[0].folds.corners: expected 4 corners, got 0"},
@@ -84,8 +84,8 @@ TEST_F(Issue36, Defect01ReuseJsonIsCheckedInput)
     EXPECT_FALSE(fs::exists(dir_ / "o3"));
 }
 
-// Defect 2: no command reads a device or a FIFO for ever: each is refused at once, exit 2.
-TEST_F(Issue36, Defect02InputsAreRegularFilesReadBounded)
+// no command reads a device or a FIFO for ever: each is refused at once, exit 2.
+TEST_F(CommandHardening, InputsAreRegularFilesReadBounded)
 {
     ASSERT_EQ(::mkfifo((dir_ / "fifo.toml").c_str(), 0600), 0);
     write(dir_ / "zs.toml", replace(kTinyScene, "fabric = \"cotton\"", "fabric = \"/dev/zero\""));
@@ -119,9 +119,9 @@ TEST_F(Issue36, Defect02InputsAreRegularFilesReadBounded)
     EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
-// Defect 3: fit's --sigma-cm is bounded (1e-160 wrote 1,000 -nan rows with exit 0); at both
+// fit's --sigma-cm is bounded (1e-160 wrote 1,000 -nan rows with exit 0); at both
 // ends of the range every table holds numbers only.
-TEST_F(Issue36, Defect03FitSpacingIsBoundedAndTablesAreFinite)
+TEST_F(CommandHardening, FitSpacingIsBoundedAndTablesAreFinite)
 {
     Outcome r = woven("fit wool --sigma-cm 1e-160 --out f");
     EXPECT_EQ(r.code, 2);
@@ -139,9 +139,9 @@ TEST_F(Issue36, Defect03FitSpacingIsBoundedAndTablesAreFinite)
     }
 }
 
-// Defect 4: kes-test writes one output set (unique temporaries, kes-report.json last naming
+// kes-test writes one output set (unique temporaries, kes-report.json last naming
 // every file with its SHA-256); a rerun with another --test removes the first run's files.
-TEST_F(Issue36, Defect04KesTestOutputIsOneSet)
+TEST_F(CommandHardening, KesTestOutputIsOneSet)
 {
     Outcome r = woven("kes-test cotton --test cantilever --direction warp --sigma-cm 1 --out k");
     ASSERT_EQ(r.code, 0) << r.err;
@@ -173,9 +173,9 @@ TEST_F(Issue36, Defect04KesTestOutputIsOneSet)
     EXPECT_TRUE(complete_set("k", "kes-report.json"));
 }
 
-// Defect 7: kes-test estimates the memory of its largest specimen before it starts (the
+// kes-test estimates the memory of its largest specimen before it starts (the
 // issue's run died with std::bad_alloc after 47 s under a 4 GB address-space limit).
-TEST_F(Issue36, Defect07KesTestMemoryIsEstimatedBeforeTheRun)
+TEST_F(CommandHardening, KesTestMemoryIsEstimatedBeforeTheRun)
 {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit set here";
@@ -190,9 +190,9 @@ TEST_F(Issue36, Defect07KesTestMemoryIsEstimatedBeforeTheRun)
 #endif
 }
 
-// Defect 10: every kes-test option is checked before any test runs (a zero clamp length was
+// every kes-test option is checked before any test runs (a zero clamp length was
 // refused only after 2.8 s of tests): nothing printed, nothing written.
-TEST_F(Issue36, Defect10KesTestOptionsAreCheckedBeforeWork)
+TEST_F(CommandHardening, KesTestOptionsAreCheckedBeforeWork)
 {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"kes-test cotton --shear-length-cm 0", "command line: --shear-length-cm: expected a number in [5, 200], got '0'"},
@@ -210,10 +210,10 @@ TEST_F(Issue36, Defect10KesTestOptionsAreCheckedBeforeWork)
     EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
-// Defect 5: experiment writes one set (its JSON last, naming every file with its SHA-256) and
+// experiment writes one set (its JSON last, naming every file with its SHA-256) and
 // SIGINT or SIGTERM ends it as they end `drape` (exit 130, 143), leaving the previous complete
 // set: a new picture never stands beside an old table.
-TEST_F(Issue36, Defect05ExperimentOutputIsOneSetAndSignalsEndIt)
+TEST_F(CommandHardening, ExperimentOutputIsOneSetAndSignalsEndIt)
 {
     const std::string one = "{\"angles_deg\": [[5]], \"standout_m\": [[0.1]]}";
     write(dir_ / "m.json", corner_map("{\"corners\": [" + one + "," + one + "," + one + "," + one + "]}"));
@@ -238,9 +238,9 @@ TEST_F(Issue36, Defect05ExperimentOutputIsOneSetAndSignalsEndIt)
     }
 }
 
-// Defect 6: an outline of more than 10,000 points is refused before its O(n^2) self-
+// an outline of more than 10,000 points is refused before its O(n^2) self-
 // intersection test (a 200,000-point one spent 285 s there).
-TEST_F(Issue36, Defect06OutlinePointsAreBounded)
+TEST_F(CommandHardening, OutlinePointsAreBounded)
 {
     std::string points;
     const int n = 10001;
@@ -256,10 +256,10 @@ TEST_F(Issue36, Defect06OutlinePointsAreBounded)
     EXPECT_FALSE(fs::exists(dir_ / "o"));
 }
 
-// Defect 8: a shear curve far from linear (3.5 gf/cm by 0.01 degrees, then nearly flat) got a
+// a shear curve far from linear (3.5 gf/cm by 0.01 degrees, then nearly flat) got a
 // de-embedding factor of 0.00022 silently (this one 0.89); a factor outside 0.98 .. 1.10 is a failed virtual
 // instrument: one warning line, and the curve is used as measured (shear_scale 1).
-TEST_F(Issue36, Defect08ImplausibleShearCorrectionIsNotApplied)
+TEST_F(CommandHardening, ImplausibleShearCorrectionIsNotApplied)
 {
     write(dir_ / "steep.toml", R"(name = "steep"
 source = "test: issue 36"
@@ -291,9 +291,9 @@ force_gf_per_cm = [0, 3.5, 3.5, 3.5, 3.5, 3.5045, 3.508]
     EXPECT_LT(s, 1.013);
 }
 
-// Defect 9: render creates a missing folder for --out as the other commands do; a directory as
+// render creates a missing folder for --out as the other commands do; a directory as
 // --out is bad usage (exit 2), not a runtime failure.
-TEST_F(Issue36, Defect09RenderOutFolder)
+TEST_F(CommandHardening, RenderWritesIntoItsOutFolderAndRefusesADirectory)
 {
     write(dir_ / "m.obj", "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0.01\nf 1 2 3\n");
     Outcome r = woven("render m.obj --size 32x24 --out new/deeper/r.png");
@@ -310,9 +310,9 @@ TEST_F(Issue36, Defect09RenderOutFolder)
     EXPECT_EQ(r.err, "woven: error: command line: --out: afile exists and is not a directory\n");
 }
 
-// Defect 11: '+0.2' is a number in an OBJ file; cusick's run seeds do not wrap round past
+// '+0.2' is a number in an OBJ file; cusick's run seeds do not wrap round past
 // 2^64 - 1; an I/O error names the output file, never its temporary.
-TEST_F(Issue36, Defect11SmallOnes)
+TEST_F(CommandHardening, SignedNumbersSeedRangesAndAFullDiskAreOneLineErrors)
 {
     write(dir_ / "m.obj", "v +0.2 0 0\nv 0.1 0 +1e-2\nv 0 0.1 0.01\nf 1 2 3\n");
     Outcome r = woven("render m.obj --size 32x24 --out r.png");
