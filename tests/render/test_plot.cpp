@@ -293,14 +293,34 @@ TEST(Plot, LegendLiesInsideTheImageAwayFromTheData)
 {
     Plot p = two_series();
     p.series[0].label = "a long legend entry that must still fit inside the plot";
-    for (int w : {320, 700}) {
+    for (int w : {320, 700, 1200}) {
         const PlotFrame f = plot_frame(p, w, 400);
         ASSERT_GT(f.legend_w, 0);
-        EXPECT_GE(f.legend_x, f.left);
-        EXPECT_LE(f.legend_x + f.legend_w, f.right);
+        // Inside the axes, or right of them; always inside the image.
+        const bool inside = f.legend_x >= f.left && f.legend_x + f.legend_w <= f.right;
+        EXPECT_TRUE(inside || f.legend_x >= f.right) << w;
+        EXPECT_LE(f.legend_x + f.legend_w, w) << w;
         EXPECT_GE(f.legend_y, f.top);
         EXPECT_LE(f.legend_y + f.legend_h, f.bottom);
     }
+    // Data in every corner: the legend goes right of the axes, whole, where the image is wide
+    // enough, and covers none of them.
+    Plot full;
+    Series grid;
+    for (int i = 0; i <= 20; ++i)
+        for (int j = 0; j <= 20; ++j) {
+            grid.x.push_back(i);
+            grid.y.push_back(j);
+        }
+    grid.style = Series::Style::POINTS;
+    grid.label = "a grid of points";
+    full.series.push_back(grid);
+    const PlotFrame g = plot_frame(full, 900, 400);
+    EXPECT_GT(g.legend_x, g.right);
+    EXPECT_LE(g.legend_x + g.legend_w, 900);
+    EXPECT_GT(g.right - g.left, 400);
+    EXPECT_TRUE(g.legend_whole);
+    EXPECT_FALSE(plot_frame(p, 320, 400).legend_whole);  // the long entry cannot fit 320 px
     // A rising line leaves the top-left and bottom-right corners free: the legend takes one (pixel y down).
     Plot rising;
     rising.series.push_back(diagonal());

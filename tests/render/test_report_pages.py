@@ -150,8 +150,10 @@ def check_plot(pid, data, svg, tol=1e-4, tol_px=0.05):
     labelled = [s for s in data["series"] if s["label"]]
     check(lw > 0 if labelled else lw == 0, f"{pid}: a legend exactly when a series is labelled")
     if lw > 0:
-        check(f["left"] <= lx and lx + lw <= f["right"] and f["top"] <= ly and ly + lh <= f["bottom"] and 0 <= lx and lx + lw <= W and ly + lh <= H,
-              f"{pid}: the legend box {lx:.0f},{ly:.0f} {lw:.0f}x{lh:.0f} lies inside the axes and the {W}x{H} image")
+        inside = f["left"] <= lx and lx + lw <= f["right"]
+        check((inside or lx >= f["right"]) and f["top"] <= ly and ly + lh <= f["bottom"] and 0 <= lx and lx + lw <= W and ly + lh <= H,
+              f"{pid}: the legend box {lx:.0f},{ly:.0f} {lw:.0f}x{lh:.0f} lies inside the axes or right of them, inside the {W}x{H} image")
+    check(f["legend_whole"], f"{pid}: the legend's text is whole (not clipped)")
     labels = [s["label"] for s in labelled]
     check(len(labels) == len(set(labels)), f"{pid}: each legend label once: {labels}")
     paths = svg_paths(svg)

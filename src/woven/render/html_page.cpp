@@ -101,7 +101,7 @@ std::string html_plot(const Plot& plot, const std::string& id, int width, int he
       << ",\"frame\":{\"x_lo\":" << json_number(f.x_lo) << ",\"x_hi\":" << json_number(f.x_hi) << ",\"y_lo\":" << json_number(f.y_lo)
       << ",\"y_hi\":" << json_number(f.y_hi) << ",\"left\":" << json_number(f.left) << ",\"top\":" << json_number(f.top)
       << ",\"right\":" << json_number(f.right) << ",\"bottom\":" << json_number(f.bottom) << ",\"legend\":[" << json_number(f.legend_x) << ","
-      << json_number(f.legend_y) << "," << json_number(f.legend_w) << "," << json_number(f.legend_h) << "],\"width\":" << width
+      << json_number(f.legend_y) << "," << json_number(f.legend_w) << "," << json_number(f.legend_h) << "],\"legend_whole\":" << (f.legend_whole ? "true" : "false") << ",\"width\":" << width
       << ",\"height\":" << height << "},\"series\":[";
     for (std::size_t k = 0; k < plot.series.size(); ++k) {
         const Series& s = plot.series[k];

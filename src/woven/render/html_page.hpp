@@ -23,7 +23,7 @@ std::string base64(std::string_view bytes);
 /// A plot for the page (render/plot.hpp's drawing as inline SVG) in a <figure class="plot"
 /// id="ID">, followed by <script type="application/json" class="plot-data"> holding what it
 /// shows: {"id", "title", "x_label", "y_label", "frame": {x_lo, x_hi, y_lo, y_hi, left, top,
-/// right, bottom, legend: [x, y, w, h], width, height}, "series": [{label, color: [r, g, b]
+/// right, bottom, legend: [x, y, w, h], legend_whole, width, height}, "series": [{label, color: [r, g, b]
 /// 0..255, style: line|points|line_and_points, x, y, err}]} (non-finite numbers as null), so that
 /// a reader can map the SVG's vertices back to data.
 std::string html_plot(const Plot& plot, const std::string& id, int width = 680, int height = 420);

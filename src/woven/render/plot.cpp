@@ -150,10 +150,27 @@ struct Layout {
     PlotFrame f;
     Axis ax, ay;
     double legend_row = 18;
+    double legend_covers = 0;  ///< samples of the data under the legend (inside the axes)
 };
 
-/// Axes from the data, margins from the text, the legend's corner from the data under it.
-Layout layout(cairo_t* cr, const Plot& plot, int W, int H)
+/// The legend's natural size: its widest label and its rows.
+std::array<double, 2> legend_size(cairo_t* cr, const Plot& plot, double row)
+{
+    font(cr, kLegendSize);
+    double text_w = 0;
+    int rows = 0;
+    for (const auto& s : plot.series)
+        if (!s.label.empty()) {
+            text_w = std::max(text_w, text_width(cr, s.label));
+            ++rows;
+        }
+    if (rows == 0) return {0, 0};
+    return {8 + 26 + 6 + text_w + 8, 16 + rows * row - 4};
+}
+
+/// Axes from the data, margins from the text; the legend inside the axes, in the corner with the
+/// least data under it, or (`outside`) right of the axes.
+Layout layout_with(cairo_t* cr, const Plot& plot, int W, int H, bool outside)
 {
     Layout L;
     double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
@@ -179,7 +196,9 @@ Layout layout(cairo_t* cr, const Plot& plot, int W, int H)
     const double top = plot.title.empty() ? 14 : 36;
     const double left = 12 + (plot.y_label.empty() ? 0 : kLabelSize + 8) + tick_w + 6;
     const double bottom = H - (10 + kTickSize + 8 + (plot.x_label.empty() ? 0 : kLabelSize + 8));
-    const double right = W - 16.0 - 0.5 * text_width(cr, tick_label(L.ax.ticks.empty() ? 0 : L.ax.ticks.back(), L.ax.step)) + 8;
+    double right = W - 16.0 - 0.5 * text_width(cr, tick_label(L.ax.ticks.empty() ? 0 : L.ax.ticks.back(), L.ax.step)) + 8;
+    const std::array<double, 2> legend = legend_size(cr, plot, L.legend_row);
+    if (outside) right = std::min<double>(right, W - 16) - legend[0] - 10;
     PlotFrame& f = L.f;
     f.left = std::round(left) + 0.5;
     f.top = std::round(top) + 0.5;
@@ -210,20 +229,18 @@ Layout layout(cairo_t* cr, const Plot& plot, int W, int H)
     for (std::size_t si = 0; si < plot.series.size(); ++si) {
         f.colors.push_back(plot.series[si].color.value_or(kTab10[si % kTab10.size()]));
     }
-    // The legend: the corner whose box covers the fewest samples of the drawn data.
-    font(cr, kLegendSize);
-    double text_w = 0;
-    int rows = 0;
-    for (const auto& s : plot.series)
-        if (!s.label.empty()) {
-            text_w = std::max(text_w, text_width(cr, s.label));
-            ++rows;
-        }
-    if (rows == 0) return L;
-    const double pad = 8, sample = 26;
+    if (legend[0] == 0) return L;
     const double aw = f.right - f.left, ah = f.bottom - f.top;
-    f.legend_w = std::min(aw - 8, pad + sample + 6 + text_w + pad);
-    f.legend_h = std::min(ah - 8, 2 * pad + rows * L.legend_row - 4);
+    if (outside) {
+        f.legend_w = std::min(legend[0], W - 2 - (f.right + 10));
+        f.legend_h = std::min(legend[1], H - 2 - f.top);
+        f.legend_x = f.right + 10;
+        f.legend_y = f.top;
+        return L;
+    }
+    // The corner whose box covers the fewest samples of the drawn data.
+    f.legend_w = std::min(aw - 8, legend[0]);
+    f.legend_h = std::min(ah - 8, legend[1]);
     const auto X = [&](double x) { return f.left + (x - f.x_lo) / (f.x_hi - f.x_lo) * aw; };
     const auto Y = [&](double y) { return f.bottom - (y - f.y_lo) / (f.y_hi - f.y_lo) * ah; };
     const double m = 6;
@@ -250,7 +267,21 @@ Layout layout(cairo_t* cr, const Plot& plot, int W, int H)
     const int best = static_cast<int>(std::min_element(cost.begin(), cost.end()) - cost.begin());
     f.legend_x = corners[best][0];
     f.legend_y = corners[best][1];
+    L.legend_covers = cost[best];
     return L;
+}
+
+/// The legend inside the axes where it fits whole and covers no data; else right of the axes
+/// when they keep at least half the width there; else inside, where it covers the least.
+Layout layout(cairo_t* cr, const Plot& plot, int W, int H)
+{
+    Layout inside = layout_with(cr, plot, W, H, false);
+    const std::array<double, 2> want = legend_size(cr, plot, inside.legend_row);
+    if (want[0] == 0 || (inside.legend_covers == 0 && inside.f.legend_w >= want[0] && inside.f.legend_h >= want[1])) return inside;
+    Layout out = layout_with(cr, plot, W, H, true);
+    if (out.f.right - out.f.left >= 0.5 * (inside.f.right - inside.f.left) && out.f.legend_w >= want[0] && out.f.legend_h >= want[1]) return out;
+    inside.f.legend_whole = inside.f.legend_w >= want[0] && inside.f.legend_h >= want[1];
+    return inside;
 }
 
 void draw(cairo_t* cr, const Plot& plot, const Layout& L, int W, int H)

@@ -24,8 +24,8 @@ struct Series {
 };
 
 /// A plot: white background, framed axes with 1-2-5 ticks and numeric labels, light grey grid,
-/// axis labels, title and a legend box (placed in the corner with the least data under it)
-/// when any series is labelled.
+/// axis labels, title and a legend box when any series is labelled: inside the axes in a corner
+/// where it fits and covers no data, else right of the axes (narrowing them to no less than half).
 struct Plot {
     std::string title;             ///< drawn above the axes (UTF-8)
     std::string x_label;           ///< below the x axis
@@ -45,6 +45,7 @@ struct PlotFrame {
     double x_lo = 0, x_hi = 1, y_lo = 0, y_hi = 1;       ///< data range of the axes
     double left = 0, top = 0, right = 1, bottom = 1;     ///< the axes' box, pixels
     double legend_x = 0, legend_y = 0, legend_w = 0, legend_h = 0;  ///< the legend's box (w 0: none)
+    bool legend_whole = true;  ///< false when the image is too small for all the legend's text
     std::vector<Vec3> colors;                            ///< each series' colour as drawn
 };
 
