@@ -9,6 +9,8 @@
 
 #include <cairo.h>
 
+#include "woven/render/text.hpp"
+
 namespace woven::render {
 
 namespace {
@@ -69,15 +71,7 @@ namespace {
 /// DejaVu Sans at 6.5 px per scale unit (scale 2: 13 px, its capitals ~9.5 px high), unhinted.
 double font_px(int scale) { return 6.5 * std::max(scale, 1); }
 
-void set_font(cairo_t* cr, int scale)
-{
-    cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_font_size(cr, font_px(scale));
-    cairo_font_options_t* o = cairo_font_options_create();
-    cairo_font_options_set_hint_metrics(o, CAIRO_HINT_METRICS_OFF);
-    cairo_set_font_options(cr, o);
-    cairo_font_options_destroy(o);
-}
+void set_font(cairo_t* cr, int scale) { detail::set_font(cr, font_px(scale)); }
 
 std::vector<std::string> lines_of(const std::string& text)
 {
