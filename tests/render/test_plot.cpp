@@ -64,7 +64,7 @@ Series diagonal(int n = 11)
 
 TEST(Plot, LineYEqualsXLiesOnTheDiagonalOfThePlotArea)
 {
-    Plot p{std::string("Diagonal"), std::string("x"), std::string("y"), {diagonal()}, std::nullopt};
+    Plot p{std::string("Diagonal"), std::string("x"), std::string("y"), {diagonal()}, std::nullopt, false};
     p.series.back().label.clear();  // no legend sample to confuse the bounding box
     const Image img = plot(p, 800, 560);
     ASSERT_EQ(img.width, 800);
@@ -123,8 +123,8 @@ TEST(Plot, EmptyAndDegeneratePlotsStillHaveAxes)
     EXPECT_GT(find_colour(empty, Vec3(0.15, 0.15, 0.15), 10).count, 1000);  // the frame
 
     Plot single;
-    single.series.push_back(Series{{2.0}, {3.0}, Series::Style::POINTS, kRed, "one"});
-    single.series.push_back(Series{{std::nan("")}, {1.0}, Series::Style::LINE_AND_POINTS, Vec3(0, 0.5, 0), ""});
+    single.series.push_back(Series{{2.0}, {3.0}, Series::Style::POINTS, kRed, "one", {}});
+    single.series.push_back(Series{{std::nan("")}, {1.0}, Series::Style::LINE_AND_POINTS, Vec3(0, 0.5, 0), "", {}});
     const Image img = plot(single, 300, 200);
     EXPECT_EQ(img.width, 300);
     EXPECT_GT(find_colour(img, kRed).count, 20);
@@ -139,7 +139,7 @@ TEST(Plot, LegendShowsLabelledSeriesOnly)
     unlabelled.color = Vec3(0.0, 0.6, 0.0);
     for (double& y : unlabelled.y) y = 10 - y;
     p.series.push_back(unlabelled);
-    const Image without = plot(Plot{{}, {}, {}, {p.series[1]}, {}});
+    const Image without = plot(Plot{{}, {}, {}, {p.series[1]}, {}, false});
     const Image with = plot(p);
     // The legend adds a light grey (0.8) box outline that the unlabelled plot does not have.
     EXPECT_GT(find_colour(with, Vec3(0.8, 0.8, 0.8), 3).count, find_colour(without, Vec3(0.8, 0.8, 0.8), 3).count + 100);
@@ -327,10 +327,10 @@ TEST(Plot, LegendLiesInsideTheImageAwayFromTheData)
     const PlotFrame f = plot_frame(rising, 700, 480);
     const double cx = f.legend_x + 0.5 * f.legend_w - 0.5 * (f.left + f.right), cy = f.legend_y + 0.5 * f.legend_h - 0.5 * (f.top + f.bottom);
     EXPECT_GT(cx * cy, 0) << "legend centre offset " << cx << ", " << cy;
-    EXPECT_EQ(plot_frame(Plot{{}, {}, {}, {diagonal()}, {}}, 700, 480).legend_w > 0, true);
+    EXPECT_EQ(plot_frame(Plot{{}, {}, {}, {diagonal()}, {}, false}, 700, 480).legend_w > 0, true);
     Series unlabelled = diagonal();
     unlabelled.label.clear();
-    EXPECT_EQ(plot_frame(Plot{{}, {}, {}, {unlabelled}, {}}, 700, 480).legend_w, 0);
+    EXPECT_EQ(plot_frame(Plot{{}, {}, {}, {unlabelled}, {}, false}, 700, 480).legend_w, 0);
 }
 
 TEST(Plot, NonFinitePointsSplitTheSvgPath)
