@@ -85,7 +85,10 @@ std::string json_string(std::string_view s)
 std::string json_array(const std::vector<double>& v, std::size_t n)
 {
     std::string o = "[";
-    for (std::size_t k = 0; k < n && k < v.size(); ++k) o += (k ? "," : "") + json_number(v[k]);
+    for (std::size_t k = 0; k < n && k < v.size(); ++k) {
+        if (k) o += ',';
+        o += json_number(v[k]);
+    }
     return o + "]";
 }
 
