@@ -29,6 +29,7 @@
 #include "woven/cli/sweep.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
+#include "woven/io/gltf_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/output_file.hpp"
 #include "woven/io/sha256.hpp"
@@ -119,14 +120,23 @@ std::array<float, 3> fabric_colour(const std::string& fabric)
     return {0.70f, 0.28f, 0.16f};
 }
 
-/// The point's scene for the 3-D view: drape.glb or cusick.glb as written.
+/// The point's scene for the 3-D view: drape.glb or cusick.glb as written; for a folder from
+/// before them, its drape.obj or cusick.obj as the cloth alone.
 std::optional<render::ViewModel> view_model(const PointView& p)
 {
-    for (const char* name : {"drape.glb", "cusick.glb"}) {
+    for (const char* name : {"drape.glb", "cusick.glb", "drape.obj", "cusick.obj"}) {
         if (!fs::exists(p.dir / name)) continue;
         render::ViewModel v;
         v.name = p.name;
-        v.glb = read_output_file((p.dir / name).string()).value_or("");
+        if (std::string(name).ends_with(".obj")) {
+            io::GltfMesh cloth;
+            cloth.name = "cloth";
+            cloth.mesh = io::load_obj_mesh((p.dir / name).string());
+            cloth.double_sided = true;
+            v.glb = io::scene_glb({cloth});
+        } else {
+            v.glb = read_output_file((p.dir / name).string()).value_or("");
+        }
         if (v.glb.empty()) continue;
         const std::string fabric = p.values.contains("fabric") && p.values["fabric"].is_string() ? p.values["fabric"].get<std::string>()
                                    : p.manifest.contains("fabric") && p.manifest["fabric"].is_string() ? p.manifest["fabric"].get<std::string>()
