@@ -550,5 +550,7 @@ std::string plot_svg(const Plot& plot, int width, int height, const std::string&
 #if defined(__SANITIZE_ADDRESS__)
 // LeakSanitizer (the sanitizer build's tests run with detect_leaks=1): fontconfig, under cairo's
 // text, keeps its configuration for the process's life and frees it nowhere; not woven's leak.
+// Quietly: the report of suppressions used would add lines to every command's stderr.
 extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfig.so\n"; }
+extern "C" const char* __lsan_default_options() { return "print_suppressions=0"; }
 #endif
