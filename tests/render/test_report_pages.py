@@ -344,6 +344,11 @@ def test_experiment(woven, tmp):
     check(set(stats) == set(j["statistics"]), f"the statistics table has each fabric: {sorted(stats)}")
     for fab, s in j["statistics"].items():
         check(fab in stats and int(stats[fab][1]) == s["corners"] and int(stats[fab][2]) == s["single_diagonal"], f"{fab}: corners and single_diagonal")
+    runs = table_rows(dom, "experiment-0-runs")
+    head = re.search(r'<table class="sortable" id="experiment-0-runs"><thead><tr>(.*?)</tr>', dom, re.S)
+    cols = re.findall(r"<th[^>]*>([^<]*)</th>", head.group(1)) if head else []
+    check(len(runs) == len(j["runs"]) and all(same(float(r[cols.index("energy_J")]), x["energy_J"], 1e-5) for r, x in zip(runs, j["runs"])),
+          f"the runs' table: a row per run with its energy ({len(runs)} rows)")
     plots = plots_of(dom)
     check(len(plots) == 2, "two plots: energy and projected area against the bending length")
     for pid, (data, svg) in plots.items():

@@ -590,13 +590,33 @@ std::string experiment_section(const PointView& p, Plots& plots)
     for (auto it = p.manifest.begin(); it != p.manifest.end(); ++it) {
         const nlohmann::json& j = it.value();
         o << "<h2>" << render::html_escape(it.key()) << "</h2>";
-        if (it.key() != "cube_results.json") {
-            nlohmann::json top = nlohmann::json::object();
-            for (auto k = j.begin(); k != j.end(); ++k)
-                if (!k->is_structured()) top[k.key()] = *k;
-            o << render::html_table(key_table(top), "experiment-" + std::to_string(std::distance(p.manifest.begin(), it)));
-            continue;
+        const std::string id = "experiment-" + std::to_string(std::distance(p.manifest.begin(), it));
+        nlohmann::json top = nlohmann::json::object();
+        for (auto k = j.begin(); k != j.end(); ++k)
+            if (!k->is_structured()) top[k.key()] = *k;
+        o << render::html_table(key_table(top), id);
+        // Its lists of records (runs, cells): one row each, a column per number or word.
+        for (auto k = j.begin(); k != j.end(); ++k) {
+            if (!k->is_array() || k->empty() || !(*k)[0].is_object()) continue;
+            render::HtmlTable t;
+            std::vector<std::string> keys;
+            for (const auto& r : *k)
+                for (auto c = r.begin(); c != r.end(); ++c)
+                    if (!c->is_structured() && std::find(keys.begin(), keys.end(), c.key()) == keys.end()) keys.push_back(c.key());
+            t.header = keys;
+            for (const auto& key : keys) {
+                bool numeric = true;
+                for (const auto& r : *k) numeric = numeric && (!r.contains(key) || r[key].is_number());
+                t.numeric.push_back(numeric);
+            }
+            for (const auto& r : *k) {
+                std::vector<std::string> row;
+                for (const auto& key : keys) row.push_back(r.contains(key) ? number_cell(r[key]) : "");
+                t.rows.push_back(std::move(row));
+            }
+            o << "<h3>" << render::html_escape(k.key()) << "</h3>" << render::html_table(t, id + "-" + k.key());
         }
+        if (it.key() != "cube_results.json") continue;
         render::HtmlTable t;
         t.header = {"fabric", "corners", "single_diagonal", "single_offset", "multiple", "none", "distinct_drapes"};
         t.numeric = {false, true, true, true, true, true, true};
