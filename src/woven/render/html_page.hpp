@@ -1,8 +1,8 @@
 #pragma once
-// The pieces of a self-contained HTML report (`woven report`, cli/cmd_report.cpp): plots (SVG),
-// sortable tables, inlined pictures and meshes, and the page around them, whose script sets
-// <body data-ready="1"> once its tables, plots and 3-D view are built. Nothing is fetched: the
-// three.js text is passed in and inlined.
+// The pieces of a self-contained HTML report (`woven report`, cli/cmd_report.cpp): plots (SVG
+// with their data), sortable tables, inlined pictures and glTF scenes, and the page around them,
+// whose script sets <body data-ready="1"> once its tables, plots and 3-D view are built. Nothing
+// is fetched: the three.js text is passed in and inlined.
 #include <array>
 #include <cstddef>
 #include <cstdint>
