@@ -266,8 +266,9 @@ const Vec3 kBlue(0.122, 0.467, 0.706), kOrange(1.000, 0.498, 0.055), kGreen(0.17
 
 /// A kes-test folder: the moment-curvature and force-angle loops (the whole loop where the run
 /// wrote one, else the loading curve), input as lines and simulated as dots, each labelled
-/// once; the cantilever's deflected shape (x, z) against the elastica.
-void kes_section(const PointView& p, Plots& plots)
+/// once; the cantilever's deflected shape (x, z) against the elastica. The titles start with
+/// `title_prefix` (a sweep's point).
+void kes_section(const PointView& p, Plots& plots, const std::string& title_prefix)
 {
     const std::string dirs[2] = {"warp", "weft"};
     struct Test {
@@ -279,7 +280,7 @@ void kes_section(const PointView& p, Plots& plots)
                             "force F, gf/cm"}};
     for (const Test& t : tests) {
         render::Plot plot;
-        plot.title = t.title;
+        plot.title = title_prefix + t.title;
         plot.x_label = t.x_label;
         plot.y_label = t.y_label;
         std::vector<std::pair<std::vector<double>, std::vector<double>>> inputs;
@@ -302,7 +303,7 @@ void kes_section(const PointView& p, Plots& plots)
         plots.add(plot);
     }
     render::Plot shape;
-    shape.title = "Cantilever: deflected shape against the elastica";
+    shape.title = title_prefix + "Cantilever: deflected shape against the elastica";
     shape.x_label = "x, m";
     shape.y_label = "z, m";
     shape.equal_aspect = true;
@@ -825,7 +826,7 @@ int run_report(const ReportOptions& o)
     }
     for (const auto& p : points) {
         if (p.status != "done") continue;
-        if (command == "kes-test") kes_section(p, plots);
+        if (command == "kes-test") kes_section(p, plots, is_sweep ? p.name + ": " : "");
         if (command == "fit") fit_section(p, plots, notes);
         if (command == "experiment") sections += experiment_section(p, plots);
         if (command == "cusick" && !is_sweep) sections += cusick_section(p, plots);
