@@ -12,12 +12,21 @@ find_package(Threads REQUIRED)
 # its idle workers sleep soon, so a busy machine is not slowed by threads spinning.
 find_package(TBB REQUIRED)
 
-# stb (stb_image_write, stb_easy_font): Debian ships the implementations as libstb.
+# stb (stb_image_write, and stb_easy_font for shadow.png's labels): Debian ships the implementations as libstb.
 find_path(STB_INCLUDE_DIR stb/stb_image_write.h REQUIRED)
 find_library(STB_LIBRARY stb REQUIRED)
 add_library(woven_stb INTERFACE)
 target_include_directories(woven_stb INTERFACE ${STB_INCLUDE_DIR})
 target_link_libraries(woven_stb INTERFACE ${STB_LIBRARY})
+
+# cairo (the plots, render/plot.cpp): one drawing API for the PNG files and the report's inline
+# SVG, with real font rendering (DejaVu Sans through fontconfig). pkg-config's absolute paths, so
+# that the exported static libraries carry it as they carry stb.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(CAIRO REQUIRED cairo)
+add_library(woven_cairo INTERFACE)
+target_include_directories(woven_cairo SYSTEM INTERFACE ${CAIRO_INCLUDE_DIRS})
+target_link_libraries(woven_cairo INTERFACE ${CAIRO_LINK_LIBRARIES})
 
 # CHOLMOD (SuiteSparse) through Eigen's CholmodSupport: supernodal sparse Cholesky for the fast
 # solver's Newton systems. Debian 12's SuiteSparse 5 ships no CMake or pkg-config files.

@@ -9,7 +9,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(woven_exported woven_common woven_stb woven_cholmod woven_kes woven_geometry woven_model woven_sim
+set(woven_exported woven_common woven_stb woven_cairo woven_cholmod woven_kes woven_geometry woven_model woven_sim
     woven_testers woven_analysis woven_io woven_render)
 foreach(t IN LISTS woven_exported)
   string(REPLACE "woven_" "" name ${t})

@@ -9,7 +9,7 @@ packages=(cmake ninja-build g++ make pkg-config
   clang libclang-rt-14-dev
   python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
   python3-setuptools python3-wheel python3-pip python3-venv
-  openmpi-bin chromium libjs-three)
+  openmpi-bin chromium libjs-three libcairo2-dev fonts-dejavu-core)
 missing=()
 for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)

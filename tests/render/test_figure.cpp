@@ -1,4 +1,6 @@
 // render / figure: composing pictures (blank, paste with clipping, rectangles, discs, labels).
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "woven/render/figure.hpp"
@@ -42,4 +44,12 @@ TEST(Figure, DiscCoversItsAreaAndLabelsInk)
             }
     EXPECT_GT(dark, 50);
     EXPECT_NEAR(right + 1 - 5, render::label_width("corner", 2), 4);
+    // Real, anti-aliased text (a bitmap font has two levels): many greys along the glyphs' edges.
+    std::set<int> greys;
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 200; ++x) greys.insert(channel(t, x, y, 0));
+    EXPECT_GT(greys.size(), 20u);
+    // Two lines: twice the height and more, as wide as the wider.
+    EXPECT_GT(render::label_height("a\nb", 2), 2 * render::label_height("a", 2));
+    EXPECT_EQ(render::label_width("corner\nx", 2), render::label_width("corner", 2));
 }

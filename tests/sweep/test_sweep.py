@@ -290,6 +290,23 @@ def test_report(woven, tmp):
     table = re.search(r'<table class="sortable" id="points">.*?<tbody>(.*?)</tbody>', dom.stdout, re.S)
     rows = re.findall(r"<tr[^>]*><td>([^<]*)</td>", table.group(1)) if table else []
     check(rows == ["fabric-cotton_seed-1", "fabric-cotton_seed-2", "fabric-wool_seed-1", "fabric-wool_seed-2"], f"the table's rows: {rows}")
+    # The plots: SVG vertices back through the axes to the embedded data (test_report_pages.py's
+    # check), and the DC plot's points the mean over the seeds of sweep.json's rows per fabric.
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "render"))
+    import test_report_pages as pages
+    plots = pages.plots_of(dom.stdout)
+    for pid, (data, svg) in plots.items():
+        pages.check_plot(pid, data, svg)
+    FAILURES.extend(pages.FAILURES)
+    rows = json.load(open(os.path.join(sweep, "sweep.json")))["rows"]
+    dc = {}
+    for r in rows:
+        dc.setdefault(r["values"]["fabric"], []).append(r["outputs"]["drape_coefficient_percent"])
+    means = sorted((sum(v) / len(v), f) for f, v in dc.items())
+    first = next((d for d, _ in plots.values() if d["title"].startswith("drape coefficient")), None)
+    got = sorted(first["series"][0]["y"]) if first else []
+    check(first is not None and len(got) == len(means) and all(abs(a - b[0]) <= 1e-9 * abs(b[0]) for a, b in zip(got, means)),
+          f"the DC plot's points are the seeds' means per fabric: {got} vs {means}")
     shot = os.path.join(tmp, "shot.png")
     chromium(["--window-size=1200,1700", "--screenshot=" + shot, "file://" + page])
     check(os.path.isfile(shot), "Chromium wrote the screenshot")
@@ -317,7 +334,9 @@ def test_report(woven, tmp):
     run([woven, "kes-test", "wool", "--test", "bending", "--direction", "warp", "--out", kes], check_rc=0)
     run([woven, "report", kes], check_rc=0)
     html = open(os.path.join(kes, "report.html")).read()
-    check("bending_warp" in html and html.count("<polyline") >= 2, "kes-test: the bending curve plot, simulated and input")
+    data = re.findall(r'<script type="application/json" class="plot-data"[^>]*>(.*?)</script>', html, re.S)
+    labels = [s["label"] for d in data for s in json.loads(d)["series"]]
+    check(html.count("<svg") >= 1 and labels == ["input", "simulated warp"], f"kes-test: the bending loop plot, input and simulated: {labels}")
 
 
 def main():

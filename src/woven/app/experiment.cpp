@@ -46,7 +46,6 @@
 #include "woven/io/sweep_plan.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/figure.hpp"
-#include "woven/render/glyphs.hpp"
 
 namespace woven::app {
 
@@ -565,13 +564,8 @@ render::Image map_picture(const std::vector<MapCell>& cells, const std::vector<d
         int x0, y0, x1, y1;
         bool hits(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
     };
-    const auto text_box = [](const std::string& t, int x, int y) {  // with a 3 px margin
-        Box b{x - 3, y - 3, x, y};
-        for (const auto& g : render::detail::glyph_boxes(t)) {
-            b.x1 = std::max(b.x1, x + static_cast<int>(std::ceil(g.x1 * 2)) + 3);
-            b.y1 = std::max(b.y1, y + static_cast<int>(std::ceil(g.y1 * 2)) + 3);
-        }
-        return b;
+    const auto text_box = [](const std::string& t, int x, int y) {  // with a 3 px margin (and the descenders)
+        return Box{x - 3, y - 3, x + render::label_width(t, 2) + 3, y + render::label_height(t, 2) + 6};
     };
     struct Mark {
         double px, py;

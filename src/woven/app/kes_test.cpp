@@ -63,6 +63,7 @@ render::Image loop_plot(const std::string& title, const std::string& x_label, co
     p.title = title;
     p.x_label = x_label;
     p.y_label = y_label;
+    std::vector<render::Series> inputs, sims;
     for (const auto& r : results) {
         if (!r.loop) continue;
         render::Series in, sim;
@@ -74,9 +75,14 @@ render::Image loop_plot(const std::string& title, const std::string& x_label, co
         sim.y = r.loop_y;
         sim.style = render::Series::Style::POINTS;
         sim.label = "simulated " + testers::to_string(r.direction);
-        p.series.push_back(in);
-        p.series.push_back(sim);
+        // One input loop where the directions share it (shear): drawn and labelled once.
+        if (std::none_of(inputs.begin(), inputs.end(), [&](const render::Series& s) { return s.x == in.x && s.y == in.y; }))
+            inputs.push_back(in);
+        sims.push_back(sim);
     }
+    if (inputs.size() == 1 && sims.size() > 1) inputs[0].label = "input loop";
+    for (auto& s : inputs) p.series.push_back(std::move(s));
+    for (auto& s : sims) p.series.push_back(std::move(s));
     return render::plot(p, 900, 620);
 }
 

@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
+#include <string>
 #include <vector>
 
-#include "woven/render/glyphs.hpp"
+#include <cairo.h>
+
+#include "woven/render/text.hpp"
 
 namespace woven::render {
 
@@ -62,13 +66,78 @@ void fill_disc(Image& img, double cx, double cy, double r, const Vec3& srgb)
             blend(img, x, y, srgb, std::clamp(r + 0.5 - std::hypot(x + 0.5 - cx, y + 0.5 - cy), 0.0, 1.0));
 }
 
-int label_width(const std::string& text, int scale) { return text.empty() ? 0 : detail::text_width_units(text) * scale; }
+namespace {
+
+/// DejaVu Sans at 6.5 px per scale unit (scale 2: 13 px, its capitals ~9.5 px high), unhinted.
+double font_px(int scale) { return 6.5 * std::max(scale, 1); }
+
+void set_font(cairo_t* cr, int scale) { detail::set_font(cr, font_px(scale)); }
+
+std::vector<std::string> lines_of(const std::string& text)
+{
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    return lines;
+}
+
+/// A context on a small scratch surface, for measuring.
+struct Measure {
+    cairo_surface_t* s = cairo_image_surface_create(CAIRO_FORMAT_A8, 1, 1);
+    cairo_t* cr = cairo_create(s);
+    explicit Measure(int scale) { set_font(cr, scale); }
+    ~Measure()
+    {
+        cairo_destroy(cr);
+        cairo_surface_destroy(s);
+    }
+    double width(const std::string& t)
+    {
+        cairo_text_extents_t e;
+        cairo_text_extents(cr, t.c_str(), &e);
+        return e.x_advance;
+    }
+};
+
+}  // namespace
+
+int label_width(const std::string& text, int scale)
+{
+    Measure m(scale);
+    double w = 0;
+    for (const auto& l : lines_of(text)) w = std::max(w, m.width(l));
+    return static_cast<int>(std::ceil(w));
+}
+
+int label_height(const std::string& text, int scale)
+{
+    const auto n = lines_of(text).size();
+    return n == 0 ? 0 : static_cast<int>(std::ceil(font_px(scale) * (1.2 * static_cast<double>(n - 1) + 1.0)));
+}
 
 void draw_label(Image& img, const std::string& text, int x, int y, int scale, const Vec3& srgb)
 {
-    for (const detail::GlyphBox& g : detail::glyph_boxes(text))
-        fill_rect(img, x + static_cast<int>(std::lround(g.x0 * scale)), y + static_cast<int>(std::lround(g.y0 * scale)),
-                  x + static_cast<int>(std::lround(g.x1 * scale)), y + static_cast<int>(std::lround(g.y1 * scale)), srgb);
+    const int w = label_width(text, scale) + 4, h = label_height(text, scale) + static_cast<int>(std::ceil(0.3 * font_px(scale))) + 4;
+    if (w <= 4 || img.width <= 0) return;
+    // The text's coverage on an alpha surface, blended into the image in its colour.
+    cairo_surface_t* s = cairo_image_surface_create(CAIRO_FORMAT_A8, w, h);
+    cairo_t* cr = cairo_create(s);
+    set_font(cr, scale);
+    cairo_font_extents_t fe;
+    cairo_font_extents(cr, &fe);
+    const auto lines = lines_of(text);
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+        // The top of a capital at the label's top: the baseline a cap height (~0.73 em) below.
+        cairo_move_to(cr, 0, 0.73 * font_px(scale) + 1.2 * font_px(scale) * static_cast<double>(k));
+        cairo_show_text(cr, lines[k].c_str());
+    }
+    cairo_destroy(cr);
+    cairo_surface_flush(s);
+    const unsigned char* a = cairo_image_surface_get_data(s);
+    const int stride = cairo_image_surface_get_stride(s);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) blend(img, x + c, y + r, srgb, a[static_cast<std::ptrdiff_t>(r) * stride + c] / 255.0);
+    cairo_surface_destroy(s);
 }
 
 }  // namespace woven::render

@@ -1,6 +1,6 @@
 #pragma once
 // Composing figures from pictures: blank canvases, pasting, filled rectangles and discs, and
-// labels (the stb_easy_font bitmap font, ASCII). All colours sRGB in 0..1.
+// labels (cairo's text in DejaVu Sans, anti-aliased). All colours sRGB in 0..1.
 #include <string>
 
 #include "woven/common/types.hpp"
@@ -20,10 +20,14 @@ void fill_rect(Image& img, int x0, int y0, int x1, int y1, const Vec3& srgb, dou
 /// A filled, anti-aliased disc of radius r (pixels) centred at (cx, cy).
 void fill_disc(Image& img, double cx, double cy, double r, const Vec3& srgb);
 
-/// Width in pixels of `text` drawn at `scale` (pixels per font unit; the font is 7 units high).
+/// Width in pixels of `text` drawn at `scale` (the font is 6.5 * scale px, its capitals about
+/// 5 * scale px high); its widest line.
 int label_width(const std::string& text, int scale = 2);
+/// Height in pixels of `text`'s lines from the top of the first's capitals to the last's baseline.
+int label_height(const std::string& text, int scale = 2);
 
-/// Draws `text` (ASCII, '\n' starts a new line) with its top-left corner at (x, y).
+/// Draws `text` (UTF-8, '\n' starts a new line) with the top of its capitals at y and its
+/// left end at x.
 void draw_label(Image& img, const std::string& text, int x, int y, int scale = 2, const Vec3& srgb = Vec3::Zero());
 
 }  // namespace woven::render

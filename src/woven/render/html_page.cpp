@@ -53,110 +53,69 @@ std::string base64(std::string_view bytes)
 
 namespace {
 
-std::string fmt(double v, int digits = 4)
+/// A number for JSON: shortest round trip, non-finite as null.
+std::string json_number(double v)
 {
+    if (!std::isfinite(v)) return "null";
     char b[40];
-    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    std::snprintf(b, sizeof b, "%.17g", v);
     return b;
 }
 
-/// Round tick positions covering [lo, hi]: steps of 1, 2 or 5 times a power of ten.
-std::vector<double> ticks(double lo, double hi, int target = 6)
+std::string json_string(std::string_view s)
 {
-    if (!(hi > lo)) {
-        const double pad = lo == 0 ? 1.0 : std::abs(lo) * 0.1;
-        lo -= pad;
-        hi += pad;
-    }
-    const double raw = (hi - lo) / target;
-    const double p = std::pow(10.0, std::floor(std::log10(raw)));
-    double step = p;
-    for (double m : {1.0, 2.0, 5.0, 10.0})
-        if (raw <= m * p) {
-            step = m * p;
-            break;
+    std::string o = "\"";
+    for (const char c : s) {
+        if (c == '"' || c == '\\') {
+            o += '\\';
+            o += c;
+        } else if (static_cast<unsigned char>(c) < 0x20) {
+            char b[8];
+            std::snprintf(b, sizeof b, "\\u%04x", c);
+            o += b;
+        } else if (c == '<') {
+            o += "\\u003c";  // never "</script>" inside the element
+        } else {
+            o += c;
         }
-    // From the last tick at or below lo to the first at or above hi.
-    const long long a = static_cast<long long>(std::floor(lo / step + 1e-9)), b = static_cast<long long>(std::ceil(hi / step - 1e-9));
-    std::vector<double> t;
-    for (long long k = a; k <= b; ++k) t.push_back(static_cast<double>(k) * step);
-    return t;
+    }
+    return o + "\"";
 }
 
-const char* const kColours[] = {"#c0392b", "#2471a3", "#229954", "#d68910", "#7d3c98", "#17a589", "#a04000", "#2e4053", "#b7950b", "#cb4335"};
+std::string json_array(const std::vector<double>& v, std::size_t n)
+{
+    std::string o = "[";
+    for (std::size_t k = 0; k < n && k < v.size(); ++k) {
+        if (k) o += ',';
+        o += json_number(v[k]);
+    }
+    return o + "]";
+}
 
 }  // namespace
 
-std::string svg_plot(const PlotSpec& spec, int width, int height)
+std::string html_plot(const Plot& plot, const std::string& id, int width, int height)
 {
-    const double left = 70, right = 190, top = 34, bottom = 48;
-    double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
-    int count = 0;
-    for (const auto& s : spec.series)
-        for (std::size_t k = 0; k < s.x.size() && k < s.y.size(); ++k) {
-            const double e = k < s.err.size() && std::isfinite(s.err[k]) ? s.err[k] : 0.0;
-            if (!std::isfinite(s.x[k]) || !std::isfinite(s.y[k])) continue;
-            x0 = std::min(x0, s.x[k]);
-            x1 = std::max(x1, s.x[k]);
-            y0 = std::min(y0, s.y[k] - e);
-            y1 = std::max(y1, s.y[k] + e);
-            ++count;
-        }
+    const PlotFrame f = plot_frame(plot, width, height);
     std::ostringstream o;
-    o << "<svg class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height << "\" viewBox=\"0 0 "
-      << width << " " << height << "\" font-family=\"sans-serif\" font-size=\"12\">";
-    o << "<rect width=\"100%\" height=\"100%\" fill=\"#fff\"/>";
-    o << "<text x=\"" << width / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\" font-weight=\"bold\">" << html_escape(spec.title)
-      << "</text>";
-    if (count == 0) {
-        o << "<text x=\"" << width / 2 << "\" y=\"" << height / 2 << "\" text-anchor=\"middle\" fill=\"#888\">no data</text></svg>";
-        return o.str();
+    o << "<figure class=\"plot\" id=\"" << html_escape(id) << "\">" << plot_svg(plot, width, height, id) << "</figure>";
+    o << "<script type=\"application/json\" class=\"plot-data\" data-for=\"" << html_escape(id) << "\">{\"id\":" << json_string(id)
+      << ",\"title\":" << json_string(plot.title) << ",\"x_label\":" << json_string(plot.x_label) << ",\"y_label\":" << json_string(plot.y_label)
+      << ",\"frame\":{\"x_lo\":" << json_number(f.x_lo) << ",\"x_hi\":" << json_number(f.x_hi) << ",\"y_lo\":" << json_number(f.y_lo)
+      << ",\"y_hi\":" << json_number(f.y_hi) << ",\"left\":" << json_number(f.left) << ",\"top\":" << json_number(f.top)
+      << ",\"right\":" << json_number(f.right) << ",\"bottom\":" << json_number(f.bottom) << ",\"legend\":[" << json_number(f.legend_x) << ","
+      << json_number(f.legend_y) << "," << json_number(f.legend_w) << "," << json_number(f.legend_h) << "],\"legend_whole\":" << (f.legend_whole ? "true" : "false") << ",\"width\":" << width
+      << ",\"height\":" << height << "},\"series\":[";
+    for (std::size_t k = 0; k < plot.series.size(); ++k) {
+        const Series& s = plot.series[k];
+        const std::size_t n = std::min(s.x.size(), s.y.size());
+        const Vec3& c = f.colors[k];
+        o << (k ? "," : "") << "{\"label\":" << json_string(s.label) << ",\"color\":[" << std::lround(255 * c[0]) << "," << std::lround(255 * c[1])
+          << "," << std::lround(255 * c[2]) << "],\"style\":\""
+          << (s.style == Series::Style::LINE ? "line" : s.style == Series::Style::POINTS ? "points" : "line_and_points") << "\",\"x\":"
+          << json_array(s.x, n) << ",\"y\":" << json_array(s.y, n) << ",\"err\":" << json_array(s.err, s.err.empty() ? 0 : n) << "}";
     }
-    const std::vector<double> xt = ticks(x0, x1), yt = ticks(y0, y1);
-    const double xa = xt.front(), xb = xt.back(), ya = yt.front(), yb = yt.back();
-    const double pw = width - left - right, ph = height - top - bottom;
-    const auto X = [&](double x) { return left + (xb > xa ? (x - xa) / (xb - xa) : 0.5) * pw; };
-    const auto Y = [&](double y) { return top + ph - (yb > ya ? (y - ya) / (yb - ya) : 0.5) * ph; };
-    o << "<g stroke=\"#ddd\">";
-    for (double t : xt) o << "<line x1=\"" << fmt(X(t), 6) << "\" y1=\"" << top << "\" x2=\"" << fmt(X(t), 6) << "\" y2=\"" << top + ph << "\"/>";
-    for (double t : yt) o << "<line x1=\"" << left << "\" y1=\"" << fmt(Y(t), 6) << "\" x2=\"" << left + pw << "\" y2=\"" << fmt(Y(t), 6) << "\"/>";
-    o << "</g><rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph << "\" fill=\"none\" stroke=\"#333\"/>";
-    for (double t : xt)
-        o << "<text x=\"" << fmt(X(t), 6) << "\" y=\"" << top + ph + 16 << "\" text-anchor=\"middle\">" << fmt(t) << "</text>";
-    for (double t : yt)
-        o << "<text x=\"" << left - 6 << "\" y=\"" << fmt(Y(t) + 4, 6) << "\" text-anchor=\"end\">" << fmt(t) << "</text>";
-    o << "<text x=\"" << left + pw / 2 << "\" y=\"" << height - 10 << "\" text-anchor=\"middle\">" << html_escape(spec.x_label) << "</text>";
-    o << "<text transform=\"translate(16," << top + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << html_escape(spec.y_label)
-      << "</text>";
-    for (std::size_t s = 0; s < spec.series.size(); ++s) {
-        const PlotSeries& ser = spec.series[s];
-        const char* c = kColours[s % std::size(kColours)];
-        std::vector<std::size_t> order;
-        for (std::size_t k = 0; k < ser.x.size() && k < ser.y.size(); ++k)
-            if (std::isfinite(ser.x[k]) && std::isfinite(ser.y[k])) order.push_back(k);
-        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ser.x[a] < ser.x[b]; });
-        if (ser.lines && order.size() > 1) {
-            o << "<polyline fill=\"none\" stroke=\"" << c << "\" stroke-width=\"1.5\" points=\"";
-            for (std::size_t k : order) o << fmt(X(ser.x[k]), 6) << "," << fmt(Y(ser.y[k]), 6) << " ";
-            o << "\"/>";
-        }
-        for (std::size_t k : order) {
-            const double px = X(ser.x[k]), py = Y(ser.y[k]);
-            if (k < ser.err.size() && std::isfinite(ser.err[k]) && ser.err[k] > 0) {
-                const double a = Y(ser.y[k] - ser.err[k]), b = Y(ser.y[k] + ser.err[k]);
-                o << "<path stroke=\"" << c << "\" d=\"M" << fmt(px, 6) << " " << fmt(a, 6) << "V" << fmt(b, 6) << "M" << fmt(px - 4, 6) << " "
-                  << fmt(a, 6) << "h8M" << fmt(px - 4, 6) << " " << fmt(b, 6) << "h8\"/>";
-            }
-            o << "<circle cx=\"" << fmt(px, 6) << "\" cy=\"" << fmt(py, 6) << "\" r=\"3.5\" fill=\"" << c << "\"><title>"
-              << html_escape(ser.name) << ": " << fmt(ser.x[k], 6) << ", " << fmt(ser.y[k], 6)
-              << (k < ser.err.size() && ser.err[k] > 0 ? " +- " + fmt(ser.err[k], 3) : std::string()) << "</title></circle>";
-        }
-        // The legend, right of the plot.
-        const double ly = top + 8 + 18.0 * static_cast<double>(s);
-        o << "<rect x=\"" << left + pw + 12 << "\" y=\"" << ly - 8 << "\" width=\"12\" height=\"10\" fill=\"" << c << "\"/>";
-        o << "<text x=\"" << left + pw + 30 << "\" y=\"" << ly + 1 << "\">" << html_escape(ser.name.substr(0, 22)) << "</text>";
-    }
-    o << "</svg>";
+    o << "]}</script>";
     return o.str();
 }
 
@@ -176,7 +135,7 @@ std::string html_table(const HtmlTable& t, const std::string& id)
     return o.str();
 }
 
-std::size_t inlined_size(const ViewMesh& m) { return (m.xyz.size() * 4 + m.triangles.size() * 4) * 4 / 3 + 64; }
+std::size_t inlined_size(const ViewModel& m) { return m.glb.size() * 4 / 3 + 256; }
 
 namespace {
 
@@ -198,10 +157,16 @@ table.sortable th.asc:after{content:" \25B2"}table.sortable th.desc:after{conten
 table.sortable td:first-child{text-align:left}
 tr.failed td{background:#fdd}tr.missing td{background:#eee;color:#888}
 .plots{display:flex;flex-wrap:wrap;gap:12px}
+figure.plot{margin:0}figure.plot svg{display:block}
 .gallery{display:flex;flex-wrap:wrap;gap:10px}
 .gallery figure{margin:0;border:1px solid #ddd;padding:4px;font-size:11px;max-width:260px}
 .gallery img{width:250px;display:block}
+#view3d-box{position:relative;width:900px;height:560px}
+body.view-only{margin:0}body.view-only>:not(#view3d-box){display:none}
 #view3d{width:900px;height:560px;border:1px solid #ccc;background:#f4f4f4;display:block}
+#view3d-legend{position:absolute;right:12px;top:12px;background:rgba(255,255,255,0.9);border:1px solid #bbb;padding:6px 8px;font-size:12px;display:none}
+#view3d-legend canvas{display:block;width:200px;height:14px;margin:4px 0}
+#view3d-legend .ends{display:flex;justify-content:space-between;gap:16px}
 .note{color:#666;font-size:12px}
 )";
 
@@ -231,91 +196,196 @@ const char* const kScript = R"(
     });
   });
   var view = 'none';
-  var data = document.getElementById('woven-meshes');
-  var meshes = data ? JSON.parse(data.textContent) : [];
-  function decode(s, T){
+  var data = document.getElementById('woven-models');
+  var models = data ? JSON.parse(data.textContent) : [];
+  var params = new URLSearchParams(location.hash.slice(1));
+  function bytes(s){
     var bin = atob(s), buf = new Uint8Array(bin.length);
     for(var i = 0; i < bin.length; ++i) buf[i] = bin.charCodeAt(i);
-    return new T(buf.buffer);
+    return buf.buffer;
   }
+  // viridis at 9 stops (matplotlib's), linear between them.
+  var VIRIDIS = [[68,1,84],[71,45,123],[59,82,139],[44,114,142],[33,145,140],[40,174,128],[94,201,98],[170,220,50],[253,231,37]];
+  function viridis(t){
+    t = Math.min(1, Math.max(0, t)) * (VIRIDIS.length - 1);
+    var i = Math.min(VIRIDIS.length - 2, Math.floor(t)), f = t - i, a = VIRIDIS[i], b = VIRIDIS[i + 1];
+    return [(a[0] + f * (b[0] - a[0])) / 255, (a[1] + f * (b[1] - a[1])) / 255, (a[2] + f * (b[2] - a[2])) / 255];
+  }
+  function fmt(v){ return Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-3 && v !== 0) ? v.toExponential(3) : +v.toPrecision(4) + ''; }
   var note = document.getElementById('view3d-note');
-  if(meshes.length){
+  var pending = 0;
+  function finish(){ document.body.dataset.view = view; document.body.dataset.ready = '1'; }
+  if(models.length){
     try {
       if(!window.THREE) throw new Error('three.js was not found when the page was made (Debian package libjs-three)');
+      if(!THREE.GLTFLoader) throw new Error("three.js's GLTFLoader was not found when the page was made");
       var canvas = document.getElementById('view3d');
       var renderer = new THREE.WebGLRenderer({canvas: canvas, antialias: true, preserveDrawingBuffer: true});
       renderer.setPixelRatio(window.devicePixelRatio || 1);
       renderer.setSize(canvas.clientWidth, canvas.clientHeight, false);
       var scene = new THREE.Scene();
       scene.background = new THREE.Color(0xf4f4f4);
-      scene.add(new THREE.HemisphereLight(0xffffff, 0x666666, 0.7));
-      var sun = new THREE.DirectionalLight(0xffffff, 0.6);
+      scene.add(new THREE.HemisphereLight(0xffffff, 0x888888, 1.0));
+      var sun = new THREE.DirectionalLight(0xffffff, 0.7);
       sun.position.set(1, -1.5, 2);
       scene.add(sun);
       var camera = new THREE.PerspectiveCamera(35, canvas.clientWidth / canvas.clientHeight, 0.001, 100);
       camera.up.set(0, 0, 1);
       var controls = new THREE.OrbitControls(camera, canvas);
-      var current = null;
       var render = function(){ renderer.render(scene, camera); };
       controls.addEventListener('change', render);
-      var show = function(k){
-        var m = meshes[k];
-        if(current){ scene.remove(current); current.geometry.dispose(); }
-        var g = new THREE.BufferGeometry();
-        g.setAttribute('position', new THREE.BufferAttribute(decode(m.xyz, Float32Array), 3));
-        g.setIndex(new THREE.BufferAttribute(decode(m.tri, Uint32Array), 1));
-        g.computeVertexNormals();
-        g.computeBoundingSphere();
-        var mat = new THREE.MeshStandardMaterial({color: new THREE.Color(m.colour[0], m.colour[1], m.colour[2]), side: THREE.DoubleSide, roughness: 0.9});
-        current = new THREE.Mesh(g, mat);
-        scene.add(current);
-        var s = g.boundingSphere;
-        controls.target.copy(s.center);
-        camera.position.set(s.center.x + 1.6 * s.radius, s.center.y - 2.2 * s.radius, s.center.z + 1.6 * s.radius);
-        camera.near = s.radius / 100; camera.far = s.radius * 100; camera.updateProjectionMatrix();
-        controls.update();
+      var current = null, cloth = null, fields = {};
+      var pickField = document.getElementById('view3d-field'), legend = document.getElementById('view3d-legend');
+      var hidden = (params.get('hide') || '').split(',').filter(function(h){ return h; });
+      var obstacleColour = new THREE.Color(params.has('obstacles') ? '#' + params.get('obstacles') : '#8a96a8');
+      var colourBy = function(name){
+        if(!cloth) return;
+        var g = cloth.geometry, f = fields[name];
+        if(!f){
+          cloth.material.vertexColors = THREE.NoColors;
+          cloth.material.color.copy(cloth.userData.colour);
+          legend.style.display = 'none';
+        } else {
+          var lo = Infinity, hi = -Infinity, v = f.values;
+          for(var i = 0; i < v.length; ++i){ lo = Math.min(lo, v[i]); hi = Math.max(hi, v[i]); }
+          var c = new Float32Array(v.length * 3), lin = new THREE.Color();
+          for(var i = 0; i < v.length; ++i){
+            var rgb = viridis(hi > lo ? (v[i] - lo) / (hi - lo) : 0.5);
+            lin.setRGB(rgb[0], rgb[1], rgb[2]);
+            c[3 * i] = lin.r; c[3 * i + 1] = lin.g; c[3 * i + 2] = lin.b;
+          }
+          g.setAttribute('color', new THREE.BufferAttribute(c, 3));
+          cloth.material.vertexColors = THREE.VertexColors;
+          cloth.material.color.setRGB(1, 1, 1);
+          legend.style.display = 'block';
+          legend.querySelector('.name').textContent = name + (f.unit ? ', ' + f.unit : '');
+          legend.querySelector('.lo').textContent = fmt(lo);
+          legend.querySelector('.hi').textContent = fmt(hi);
+          legend.dataset.field = name; legend.dataset.unit = f.unit; legend.dataset.min = lo; legend.dataset.max = hi;
+          var bar = legend.querySelector('canvas'), ctx = bar.getContext('2d');
+          for(var x = 0; x < bar.width; ++x){
+            var rgb = viridis(x / (bar.width - 1));
+            ctx.fillStyle = 'rgb(' + Math.round(255 * rgb[0]) + ',' + Math.round(255 * rgb[1]) + ',' + Math.round(255 * rgb[2]) + ')';
+            ctx.fillRect(x, 0, 1, bar.height);
+          }
+        }
+        cloth.material.needsUpdate = true;
         render();
+      };
+      var show = function(k, done){
+        var m = models[k];
+        if(current){ scene.remove(current); current = null; cloth = null; }
+        new THREE.GLTFLoader().parse(bytes(m.glb), '', function(gltf){
+          var root = new THREE.Group();
+          root.add(gltf.scene);
+          gltf.scene.rotation.x = Math.PI / 2;  // glTF y-up back to woven's z-up
+          var units = (gltf.asset && gltf.asset.extras && gltf.asset.extras.units) || {};
+          fields = {};
+          gltf.scene.traverse(function(o){
+            if(!o.isMesh) return;
+            if(!o.geometry.attributes.normal) o.geometry.computeVertexNormals();
+            if(o.name === 'cloth' || (o.parent && o.parent.name === 'cloth')){
+              cloth = o;
+              o.material = new THREE.MeshStandardMaterial({color: new THREE.Color(m.colour[0], m.colour[1], m.colour[2]), side: THREE.DoubleSide, roughness: 0.9});
+              o.userData.colour = o.material.color.clone();
+              var a = o.geometry.attributes;
+              Object.keys(a).forEach(function(key){
+                if(key.charAt(0) !== '_') return;
+                fields[key.slice(1)] = {values: a[key].array, unit: units[key.toUpperCase()] || ''};
+              });
+              var pos = a.position, h = new Float32Array(pos.count);
+              for(var i = 0; i < pos.count; ++i) h[i] = pos.getY(i);  // glTF y: woven's z
+              fields.height = {values: h, unit: 'm'};
+            } else {
+              o.material = new THREE.MeshStandardMaterial({color: obstacleColour, side: THREE.DoubleSide, roughness: 0.7, flatShading: true});
+              if(hidden.some(function(h){ return h === 'obstacles' || o.name.indexOf(h) >= 0; })) o.visible = false;
+            }
+          });
+          root.updateMatrixWorld(true);
+          var bounds = [];
+          gltf.scene.traverse(function(o){
+            if(!o.isMesh || o === cloth) return;
+            var b = new THREE.Box3().setFromObject(o);
+            bounds.push({name: o.name, box: [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z]});
+          });
+          if(cloth && hidden.indexOf('cloth') >= 0) cloth.visible = false;
+          scene.add(root);
+          current = root;
+          document.body.dataset.bounds = JSON.stringify(bounds);
+          var names = Object.keys(fields);
+          pickField.innerHTML = '';
+          ['none'].concat(names).forEach(function(n){
+            var opt = document.createElement('option');
+            opt.value = n; opt.textContent = n === 'none' ? 'fabric colour' : n + (fields[n].unit ? ' (' + fields[n].unit + ')' : '');
+            pickField.appendChild(opt);
+          });
+          var want = params.get('field') || 'none';
+          pickField.value = fields[want] ? want : 'none';
+          colourBy(pickField.value);
+          // Framed on the cloth (a floor plane may reach far beyond it).
+          var s = new THREE.Box3().setFromObject(cloth || root).getBoundingSphere(new THREE.Sphere());
+          s.radius *= 1.15;
+          if(params.has('camera') && params.has('target')){
+            var c = params.get('camera').split(',').map(Number), t = params.get('target').split(',').map(Number);
+            camera.position.set(c[0], c[1], c[2]);
+            controls.target.set(t[0], t[1], t[2]);
+            camera.near = 0.001; camera.far = 10 * s.radius + 10;
+          } else {
+            controls.target.copy(s.center);
+            camera.position.set(s.center.x + 1.6 * s.radius, s.center.y - 2.2 * s.radius, s.center.z + 1.6 * s.radius);
+            camera.near = s.radius / 100; camera.far = s.radius * 100;
+          }
+          camera.updateProjectionMatrix();
+          controls.update();
+          render();
+          if(done) done();
+        }, function(e){
+          view = 'failed';
+          if(note) note.textContent = '3-D view not available: the glb did not load (' + (e && e.message ? e.message : e) + ')';
+          if(done) done();
+        });
       };
       var pick = document.getElementById('view3d-pick');
       pick.addEventListener('change', function(){ show(+pick.value); });
-      show(0);
+      pickField.addEventListener('change', function(){ colourBy(pickField.value); });
       view = 'webgl';
+      var first = Math.min(models.length - 1, Math.max(0, +(params.get('model') || 0)));
+      pick.value = first;
+      if(Array.from(params.keys()).length) document.body.classList.add('view-only');
+      pending = 1;
+      show(first, finish);
     } catch(e) {
       view = 'failed';
       if(note) note.textContent = '3-D view not available: ' + e.message;
     }
   }
-  document.body.dataset.view = view;
-  document.body.dataset.ready = '1';
+  if(!pending) finish();
 })();
 )";
 
 }  // namespace
 
-std::string html_page(const std::string& title, const std::string& body, const std::vector<ViewMesh>& meshes, std::string_view three_js,
-                      std::string_view orbit_controls_js)
+std::string html_page(const std::string& title, const std::string& body, const std::vector<ViewModel>& models, const ViewScripts& scripts)
 {
     std::ostringstream o;
     o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << html_escape(title) << "</title><style>" << kStyle
       << "</style></head><body data-ready=\"0\">\n";
     o << body;
-    if (!meshes.empty()) {
-        o << "<h2>3-D view</h2><p><select id=\"view3d-pick\">";
-        for (std::size_t k = 0; k < meshes.size(); ++k) o << "<option value=\"" << k << "\">" << html_escape(meshes[k].name) << "</option>";
-        o << "</select> <span class=\"note\" id=\"view3d-note\">drag to turn, wheel to zoom, right-drag to pan; z up</span></p>"
-             "<canvas id=\"view3d\"></canvas>\n<script type=\"application/json\" id=\"woven-meshes\">[";
-        for (std::size_t k = 0; k < meshes.size(); ++k) {
-            const ViewMesh& m = meshes[k];
-            std::string xyz(reinterpret_cast<const char*>(m.xyz.data()), m.xyz.size() * sizeof(float));
-            std::string tri(reinterpret_cast<const char*>(m.triangles.data()), m.triangles.size() * sizeof(std::uint32_t));
-            o << (k ? "," : "") << "{\"colour\":[" << m.colour[0] << "," << m.colour[1] << "," << m.colour[2] << "],\"xyz\":\"" << base64(xyz)
-              << "\",\"tri\":\"" << base64(tri) << "\"}";
+    if (!models.empty()) {
+        o << "<h2 id=\"view3d-head\">3-D view</h2><p><select id=\"view3d-pick\">";
+        for (std::size_t k = 0; k < models.size(); ++k) o << "<option value=\"" << k << "\">" << html_escape(models[k].name) << "</option>";
+        o << "</select> colour by <select id=\"view3d-field\"></select> <span class=\"note\" id=\"view3d-note\">drag to turn, wheel to "
+             "zoom, right-drag to pan; z up; the cloth as displayed (lifted off the obstacles by the contact distance)</span></p>"
+             "<div id=\"view3d-box\"><canvas id=\"view3d\"></canvas><div id=\"view3d-legend\"><div class=\"name\"></div>"
+             "<canvas width=\"200\" height=\"14\"></canvas><div class=\"ends\"><span class=\"lo\"></span><span class=\"hi\"></span></div></div></div>\n"
+             "<script type=\"application/json\" id=\"woven-models\">[";
+        for (std::size_t k = 0; k < models.size(); ++k) {
+            const ViewModel& m = models[k];
+            o << (k ? "," : "") << "{\"colour\":[" << m.colour[0] << "," << m.colour[1] << "," << m.colour[2] << "],\"glb\":\"" << base64(m.glb) << "\"}";
         }
         o << "]</script>\n";
-        if (!three_js.empty()) {
-            o << "<script>" << script_safe(three_js) << "\n</script>\n";
-            o << "<script>" << script_safe(orbit_controls_js) << "\n</script>\n";
-        }
+        for (const std::string* js : {&scripts.three, &scripts.orbit_controls, &scripts.gltf_loader})
+            if (!js->empty()) o << "<script>" << script_safe(*js) << "\n</script>\n";
     }
     o << "<script>" << kScript << "</script>\n</body></html>\n";
     return o.str();

@@ -1,14 +1,16 @@
 #pragma once
-// The pieces of a self-contained HTML report (`woven report`, cli/cmd_report.cpp): SVG plots,
-// sortable tables, inlined pictures and meshes, and the page around them, whose script sets
-// <body data-ready="1"> once its tables, plots and 3-D view are built. Nothing is fetched: the
-// three.js text is passed in and inlined.
+// The pieces of a self-contained HTML report (`woven report`, cli/cmd_report.cpp): plots (SVG
+// with their data), sortable tables, inlined pictures and glTF scenes, and the page around them,
+// whose script sets <body data-ready="1"> once its tables, plots and 3-D view are built. Nothing
+// is fetched: the three.js text is passed in and inlined.
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "woven/render/plot.hpp"
 
 namespace woven::render {
 
@@ -18,22 +20,13 @@ std::string html_escape(std::string_view text);
 /// RFC 4648 base64 of `bytes`.
 std::string base64(std::string_view bytes);
 
-/// One series of a plot: points (x, y) with optional symmetric error bars (empty: none).
-struct PlotSeries {
-    std::string name;
-    std::vector<double> x, y, err;
-    bool lines = true;  ///< join the points (sorted by x) with a line
-};
-
-struct PlotSpec {
-    std::string title, x_label, y_label;
-    std::vector<PlotSeries> series;
-};
-
-/// An SVG plot (inline <svg>, `width` x `height` px): axes with round ticks, one colour per
-/// series, error bars, a legend; the points carry <title> tooltips. Non-finite points are left
-/// out. An empty plot says "no data".
-std::string svg_plot(const PlotSpec& spec, int width = 680, int height = 400);
+/// A plot for the page (render/plot.hpp's drawing as inline SVG) in a <figure class="plot"
+/// id="ID">, followed by <script type="application/json" class="plot-data"> holding what it
+/// shows: {"id", "title", "x_label", "y_label", "frame": {x_lo, x_hi, y_lo, y_hi, left, top,
+/// right, bottom, legend: [x, y, w, h], legend_whole, width, height}, "series": [{label, color: [r, g, b]
+/// 0..255, style: line|points|line_and_points, x, y, err}]} (non-finite numbers as null), so that
+/// a reader can map the SVG's vertices back to data.
+std::string html_plot(const Plot& plot, const std::string& id, int width = 680, int height = 420);
 
 /// A table whose columns sort when their header is clicked (numerically where `numeric`).
 struct HtmlTable {
@@ -44,21 +37,32 @@ struct HtmlTable {
 };
 std::string html_table(const HtmlTable& table, const std::string& id);
 
-/// A mesh for the 3-D view: positions in metres (z up), triangles.
-struct ViewMesh {
+/// A scene for the 3-D view: a binary glTF (drape.glb, cusick.glb: y-up, metres; its node
+/// "cloth" and the obstacles' "obstacle K KIND"), inlined as base64.
+struct ViewModel {
     std::string name;
-    std::vector<float> xyz;
-    std::vector<std::uint32_t> triangles;
-    std::array<float, 3> colour{0.7f, 0.28f, 0.16f};
+    std::string glb;                                  ///< the file's bytes
+    std::array<float, 3> colour{0.7f, 0.28f, 0.16f};  ///< the cloth's sRGB colour when no field is shown
 };
 
-/// Bytes the mesh takes in the page (base64 of float32 positions and uint32 indices).
-std::size_t inlined_size(const ViewMesh& m);
+/// Bytes the model takes in the page.
+std::size_t inlined_size(const ViewModel& m);
 
-/// The page: `title`, `body` (HTML made of the pieces above), the meshes (a 3-D view with a
-/// chooser; none: no view) and three.js with its OrbitControls (global-script builds; empty
-/// `three_js`: the view says the library was not found, the rest of the page still builds).
-std::string html_page(const std::string& title, const std::string& body, const std::vector<ViewMesh>& meshes,
-                      std::string_view three_js, std::string_view orbit_controls_js);
+/// The JavaScript libraries of the view (global-script builds; empty: none).
+struct ViewScripts {
+    std::string three, orbit_controls, gltf_loader;
+};
+
+/// The page: `title`, `body` (HTML made of the pieces above) and, when `models` is not empty, a
+/// 3-D view with a chooser of the model and of the field that colours the cloth (each per-vertex
+/// attribute of the cloth, "_NAME" in the glb with its unit from the asset's extras, and the
+/// height), with a colour legend (name, unit, min, max). The obstacles are drawn in one colour.
+/// Without three.js or its GLTFLoader the view says so and the rest of the page still builds.
+/// URL hash parameters (for a link or a test): field=NAME|none, camera=x,y,z and target=x,y,z
+/// (m, z up), obstacles=RRGGBB, hide=a comma list of cloth, obstacles
+/// or a part of an obstacle's name (plane, box, ...), model=K; with any of them the page shows
+/// the view alone. The body's data-view is webgl, failed or none; data-bounds gives
+/// each obstacle's name and box [x0, y0, z0, x1, y1, z1] (woven axes) once loaded; data-ready is 1 when all is built.
+std::string html_page(const std::string& title, const std::string& body, const std::vector<ViewModel>& models, const ViewScripts& scripts);
 
 }  // namespace woven::render
