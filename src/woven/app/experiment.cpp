@@ -358,7 +358,7 @@ ExperimentResult run_cube(const ExperimentRequest& o)
     }
     plan += "]\nseed = {from = 1, to = " + std::to_string(o.seeds) + "}\n" + plan_options(o, true, false);
     const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
-    if (!pr.plan) return {pr.message};
+    if (!pr.plan) return {pr.message, nlohmann::json()};
     const SweepFolderLock lock(pr.dir);  // ranks that find every drape done build one after another
     const std::vector<io::SweepPoint> points = pr.plan->points();
     io::OutputSet set(out_dir, {"cube_figure.png", "cube_folds.md"});
@@ -733,7 +733,7 @@ ExperimentResult run_map(const ExperimentRequest& o)
             }
         plan += "]\n" + plan_options(o, true, true);
         pr = run_experiment_plan(o, *place, plan, files, what);
-        if (!pr->plan) return {pr->message};
+        if (!pr->plan) return {pr->message, nlohmann::json()};
         lock.emplace(pr->dir);
         points = pr->plan->points();
     } else {
@@ -809,7 +809,7 @@ ExperimentResult run_figure1(const ExperimentRequest& o)
     }
     plan += "]\n" + plan_options(o, false, true);
     const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
-    if (!pr.plan) return {pr.message};
+    if (!pr.plan) return {pr.message, nlohmann::json()};
     const SweepFolderLock lock(pr.dir);
     const std::vector<io::SweepPoint> points = pr.plan->points();
     io::OutputSet set(out_dir, {"figure1_chair.png", "figure1_table.png", "figure1.md"});
