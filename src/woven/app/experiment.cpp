@@ -238,6 +238,7 @@ SweepPlace sweep_place(const ExperimentRequest& o)
     p.dir = path_given(o.sweep, "--sweep").value_or(join_path("out", "experiment-" + which_name(o)));
     p.run.jobs = static_cast<int>(integer_in_range(o.jobs, "--jobs", 1, 4096));
     p.run.shard = o.shard;
+    p.run.on_line = o.on_sweep_line;
     return p;
 }
 

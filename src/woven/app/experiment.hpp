@@ -41,6 +41,8 @@ struct ExperimentRequest {
     /// Each may be empty: the inputs' warnings; each drape as it starts (what it drapes).
     std::function<void(const std::vector<std::string>&)> on_warnings;
     std::function<void(const std::string&)> on_drape;
+    /// The lines the sweep of its drapes reports (SweepRunOptions::on_line).
+    std::function<void(const std::string& line, bool out)> on_sweep_line;
     /// Progress, interrupts and the display while the job runs (progress.hpp).
     Monitor monitor;
 };

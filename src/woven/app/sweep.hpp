@@ -46,6 +46,10 @@ struct SweepRunOptions {
     ShardSpec shard;  ///< the points of this process
     /// Called as each point's process starts (`woven experiment` prints what it drapes).
     std::function<void(const io::SweepPoint&)> on_start;
+    /// Gets each line the run reports, without its newline: `out` for the result (stdout),
+    /// else the word on the run (stderr): the plan's counts, each point's end, a rerun's reason.
+    /// Empty: nothing is shown.
+    std::function<void(const std::string& line, bool out)> on_line;
 };
 
 struct SweepRunResult {
@@ -62,8 +66,8 @@ struct SweepRunResult {
 /// experiment` both run their points here): reads every point's overridden scene and fabric
 /// (InputError naming the plan and the point), creates `dir`, takes over SIGINT and SIGTERM,
 /// runs the points of the shard whose folders do not verify (point_complete), `jobs` at once,
-/// each as a child process, and merges sweep.csv / sweep.json. Prints a line before the run and
-/// one per point (stdout).
+/// each as a child process, and merges sweep.csv / sweep.json. Reports a line before the run,
+/// one per point and the merge's counts (SweepRunOptions::on_line).
 SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& dir, const SweepRunOptions& options);
 
 /// The SIGINT / SIGTERM received since run_sweep_points took them over (0: none).

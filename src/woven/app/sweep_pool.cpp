@@ -130,9 +130,9 @@ std::string threads_text(const io::SweepPlan& plan, const std::vector<std::size_
 class SweepRunner {
 public:
     SweepRunner(const io::SweepPlan& plan, fs::path sweep, int jobs, int threads_per_point,
-                std::function<void(const io::SweepPoint&)> on_start = {})
+                std::function<void(const io::SweepPoint&)> on_start, std::function<void(const std::string&, bool)> on_line)
         : plan_(plan), sweep_(std::move(sweep)), work_root_(sweep_ / ".work"), jobs_(jobs), threads_(threads_per_point),
-          host_(host_name()), on_start_(std::move(on_start))
+          host_(host_name()), on_start_(std::move(on_start)), on_line_(std::move(on_line))
     {
     }
 
@@ -304,10 +304,10 @@ private:
             f["log_tail"] = tail_lines(r.work / "log.txt", 8);
             write_atomic(sweep_ / "failed" / (p.name + ".json"), f.dump(2) + "\n");
             remove_work(r.work);
-            std::cerr << head.str() << "FAILED (" << problem << ", " << std::fixed << std::setprecision(1) << wall << " s); see "
-                      << (sweep_ / "failed" / (p.name + ".json")).string() << "\n"
-                      << std::flush;
-            std::cerr.unsetf(std::ios::fixed);
+            std::ostringstream line;
+            line << head.str() << "FAILED (" << problem << ", " << std::fixed << std::setprecision(1) << wall << " s); see "
+                 << (sweep_ / "failed" / (p.name + ".json")).string();
+            say(line.str());
             return;
         }
         nlohmann::json pj;
@@ -333,7 +333,7 @@ private:
             const PointState there = point_state(sweep_, p);
             if (there.done) {
                 remove_work(r.work);
-                std::cerr << head.str() << "done elsewhere meanwhile; kept that folder\n" << std::flush;
+                say(head.str() + "done elsewhere meanwhile; kept that folder");
                 return;
             }
             const fs::path aside = work_root_ / ("replaced." + p.name + "." + host_ + "." + std::to_string(::getpid()));
@@ -346,8 +346,14 @@ private:
         std::error_code ec;
         fs::remove(sweep_ / "failed" / (p.name + ".json"), ec);
         ++ran_;
-        std::cerr << head.str() << "ran in " << std::fixed << std::setprecision(1) << wall << " s\n" << std::flush;
-        std::cerr.unsetf(std::ios::fixed);
+        head << "ran in " << std::fixed << std::setprecision(1) << wall << " s";
+        say(head.str());
+    }
+
+    /// A line of word on the run (stderr), to on_line.
+    void say(const std::string& line)
+    {
+        if (on_line_) on_line_(line, false);
     }
 
     void remove_work(const fs::path& w)
@@ -373,6 +379,7 @@ private:
     int jobs_, threads_;
     std::string host_;
     std::function<void(const io::SweepPoint&)> on_start_;
+    std::function<void(const std::string&, bool)> on_line_;
     int failed_ = 0, ran_ = 0;
 };
 
@@ -398,7 +405,7 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
             ++res.done_before;
             continue;
         }
-        if (!st.problem.empty()) std::cerr << "woven: warning: " << p.name << ": rerun: " << one_line(st.problem) << "\n";
+        if (!st.problem.empty() && o.on_line) o.on_line("woven: warning: " + p.name + ": rerun: " + one_line(st.problem), false);
         todo.push_back(index);
     }
     res.to_run = todo.size();
@@ -406,23 +413,26 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
     const int cores = available_cores();
     const int threads = std::max(1, cores / (jobs * local_ranks()));
     check_points_memory(plan, todo, jobs, threads);
-    std::cerr << "sweep " << plan.name << " (" << plan.command << "): " << plan.size() << " points";
-    if (o.shard.count > 1)
-        std::cerr << ", shard " << o.shard.index << "/" << o.shard.count << " (" << o.shard.source << "): " << res.mine << " here";
-    std::cerr << "; " << res.done_before << " done already, " << todo.size() << " to run, " << jobs << (jobs == 1 ? " job" : " jobs")
-              << " of " << threads_text(plan, todo, threads) << "; folder " << out << "\n"
-              << std::flush;
-    SweepRunner runner(plan, out, jobs, threads, o.on_start);
+    std::ostringstream head;
+    head << "sweep " << plan.name << " (" << plan.command << "): " << plan.size() << " points";
+    if (o.shard.count > 1) head << ", shard " << o.shard.index << "/" << o.shard.count << " (" << o.shard.source << "): " << res.mine << " here";
+    head << "; " << res.done_before << " done already, " << todo.size() << " to run, " << jobs << (jobs == 1 ? " job" : " jobs") << " of "
+         << threads_text(plan, todo, threads) << "; folder " << out;
+    if (o.on_line) o.on_line(head.str(), false);
+    SweepRunner runner(plan, out, jobs, threads, o.on_start, o.on_line);
     res.failed = runner.run(todo);
     res.ran = runner.ran();
     if (g_sweep_signal.load() != 0) {
         res.signal = g_sweep_signal.load();
-        std::cerr << "woven: sweep interrupted; " << runner.ran() << " points finished, the others run again next time\n";
+        if (o.on_line) o.on_line("woven: sweep interrupted; " + std::to_string(runner.ran()) + " points finished, the others run again next time", false);
         return res;
     }
     res.merged = merge_sweep(plan, out);
-    std::cout << "ran " << res.ran << ", failed " << res.failed << "; merged: " << res.merged.done << " of " << plan.size() << " done, "
-              << res.merged.failed << " failed, " << res.merged.missing << " missing (" << join_path(out, "sweep.csv") << ")\n";
+    if (o.on_line)
+        o.on_line("ran " + std::to_string(res.ran) + ", failed " + std::to_string(res.failed) + "; merged: " + std::to_string(res.merged.done) +
+                      " of " + std::to_string(plan.size()) + " done, " + std::to_string(res.merged.failed) + " failed, " +
+                      std::to_string(res.merged.missing) + " missing (" + join_path(out, "sweep.csv") + ")",
+                  true);
     return res;
 }
 

@@ -43,6 +43,11 @@ std::size_t parse_choice(const std::string& text, const std::string& option, std
     return choice_index(text, option, choices);
 }
 
+void print_line(const std::string& line, bool out)
+{
+    (out ? std::cout : std::cerr) << line << "\n" << std::flush;
+}
+
 void print_warnings(const std::vector<std::string>& warnings)
 {
     for (const auto& w : warnings) std::cerr << "woven: warning: " << one_line(w) << "\n";

@@ -56,6 +56,7 @@ ExperimentRequest experiment_request(const ExperimentOptions& o, const std::stri
     r.fabrics = o.fabrics;
     r.command = command;
     r.on_warnings = print_warnings;
+    r.on_sweep_line = print_line;
     r.on_drape = [](const std::string& what) { std::cerr << "woven: experiment: " << what << " ...\n" << std::flush; };
     return r;
 }

@@ -54,6 +54,7 @@ int run_sweep(const SweepOptions& o)
     SweepRunOptions run;
     run.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
     run.shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
+    run.on_line = print_line;
     if (o.list || o.merge) {
         validate_sweep_overrides(plan);
         if (o.list) {

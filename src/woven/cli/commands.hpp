@@ -132,6 +132,9 @@ int run_kes_test(const KesTestOptions& options);   // cmd_kes_test.cpp
 int run_cusick(const CusickCommandOptions& options);  // cmd_cusick.cpp
 int run_check(const CheckOptions& options);
 
+/// Prints a line a job reports: on stdout when `out`, else on stderr (flushed).
+void print_line(const std::string& line, bool out);
+
 /// Prints "woven: warning: <w>" on stderr for each warning.
 void print_warnings(const std::vector<std::string>& warnings);
 
