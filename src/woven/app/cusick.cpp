@@ -392,11 +392,13 @@ CusickResult cusick(const CusickRequest& request)
     std::vector<std::string> warnings;
     const kes::FabricData fabric = command_fabric(request.fabric, request.given_fabric, &warnings);
     if (request.on_warnings) request.on_warnings(warnings);
+    warnings.clear();  // delivered
     const std::string name = fabric.name.empty() ? request.fabric : fabric.name;
     const std::string out_dir = path_given(request.out, "--out").value_or(join_path("out", "cusick-" + safe_file_name(name)));
     const testers::CusickSetup setup = cusick_setup(co);
     check_cusick_memory(setup, co, request, search);
-    with_fabric_source(command_fabric_source(request.fabric, request.given_fabric), [&] { resolve_shear_law(fabric, co.model); });
+    with_fabric_source(command_fabric_source(request.fabric, request.given_fabric), [&] { resolve_shear_law(fabric, co.model, warnings); });
+    if (request.on_warnings && !warnings.empty()) request.on_warnings(warnings);
     std::string start_sha256;
     if (request.start) {
         io::StartState start = io::load_start(path_given(request.start->string(), "--start"), setup.grid, setup.cut.active, setup.initial);

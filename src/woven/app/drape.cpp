@@ -55,7 +55,7 @@ std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std:
                          r.hysteresis ? "--hysteresis" : r.solver ? "--solver" : "model.hysteresis",
                          "expected loading-branch with the paper solver, or the fast solver with friction (friction inside the weave is the fast solver's)");
     // Threads and memory before anything large is built.
-    d.threads = choose_threads(scene.solver.threads);
+    d.threads = choose_threads(scene.solver.threads, warnings);
     scene.solver.threads = d.threads.used;
     check_memory(static_cast<long long>(scene.cloth.nu) * scene.cloth.nv, d.threads.used,
                  r.grid ? kCommandLine : scene.source_path, r.grid ? "--grid" : "cloth.grid");
@@ -72,7 +72,7 @@ std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std:
 
     d.grid = scene.cloth.grid();
     with_fabric_source(fabric_src, [&] {  // fitting errors name the fabric's file
-        resolve_shear_law(d.fabric, scene.model);
+        resolve_shear_law(d.fabric, scene.model, warnings);
         d.model.emplace(model::make_cloth_model(d.fabric, d.grid, scene.model));
     });
     // A cloth cut to [cloth.outline]: only the kept particles, each weighing W x its area.

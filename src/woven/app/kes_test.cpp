@@ -526,6 +526,7 @@ KesTestResult kes_test(const KesTestRequest& request)
     std::vector<std::string> warnings;
     kes::FabricData fabric = command_fabric(request.fabric, request.given_fabric, &warnings);
     if (request.on_warnings) request.on_warnings(warnings);
+    warnings.clear();  // delivered
     check_specimen_memory(fabric, run_cantilever, run_bending, run_shear, request.convergence, request.sigma_cm, shear_length_m,
                           request.shear_length_cm.has_value());
     std::string name = fabric.name.empty() ? std::filesystem::path(request.fabric).stem().string() : fabric.name;
@@ -540,7 +541,8 @@ KesTestResult kes_test(const KesTestRequest& request)
     io::OutputSet set(dir, members);
 
     model::ModelOptions mo = kes_model_options(request);
-    with_fabric_source(command_fabric_source(request.fabric, request.given_fabric), [&] { resolve_shear_law(fabric, mo); });
+    with_fabric_source(command_fabric_source(request.fabric, request.given_fabric), [&] { resolve_shear_law(fabric, mo, warnings); });
+    if (request.on_warnings && !warnings.empty()) request.on_warnings(warnings);
 
     const int units = (int(run_cantilever) + int(run_bending) + int(run_shear) + int(request.convergence)) * int(directions.size());
     KesRun k(request, std::move(fabric), name, units);

@@ -38,14 +38,14 @@ std::optional<std::string> first_non_finite(const nlohmann::json& j, const std::
 
 }  // namespace
 
-ThreadCount choose_threads(int requested)
+ThreadCount choose_threads(int requested, std::vector<std::string>& warnings)
 {
     ThreadCount t;
     t.requested = requested;
     t.used = threads_to_use(requested);
     if (requested > t.used)
-        std::cerr << "woven: warning: " << requested << " threads asked for, " << t.used
-                  << " cores available to this process; using " << t.used << "\n";
+        warnings.push_back(std::to_string(requested) + " threads asked for, " + std::to_string(t.used) +
+                           " cores available to this process; using " + std::to_string(t.used));
     return t;
 }
 

@@ -14,12 +14,12 @@
 namespace woven::app {
 
 /// Threads asked for (0: all) and used: min(asked, available_cores()); a request above the
-/// cores available prints a warning (more threads than cores only slows a run down).
+/// cores available adds a warning to `warnings` (more threads than cores only slows a run down).
 struct ThreadCount {
     int requested = 0;
     int used = 1;
 };
-ThreadCount choose_threads(int requested);
+ThreadCount choose_threads(int requested, std::vector<std::string>& warnings);
 
 /// Refuses (InputError "<source>: <field>: ... needs about X GB ..., more than the Y GB of
 /// <limit>") a drape whose estimated memory exceeds the process's limit.

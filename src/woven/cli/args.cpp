@@ -45,7 +45,9 @@ std::size_t parse_choice(const std::string& text, const std::string& option, std
 
 void print_line(const std::string& line, bool out)
 {
-    (out ? std::cout : std::cerr) << line << "\n" << std::flush;
+    // One write with its newline: the lines of processes sharing a stream (the ranks of mpirun)
+    // do not cut into each other.
+    (out ? std::cout : std::cerr) << (line + "\n") << std::flush;
 }
 
 void print_warnings(const std::vector<std::string>& warnings)
