@@ -447,14 +447,14 @@ void draw(cairo_t* cr, const Plot& plot, const Layout& L, int W, int H)
     }
 }
 
-struct SurfaceDeleter {
+struct CairoSurfaceDeleter {
     void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
 };
-struct ContextDeleter {
+struct CairoContextDeleter {
     void operator()(cairo_t* c) const { cairo_destroy(c); }
 };
-using Surface = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
-using Context = std::unique_ptr<cairo_t, ContextDeleter>;
+using CairoSurface = std::unique_ptr<cairo_surface_t, CairoSurfaceDeleter>;
+using CairoContext = std::unique_ptr<cairo_t, CairoContextDeleter>;
 
 int clamp_side(int v) { return std::clamp(v, 64, 8192); }
 
@@ -493,18 +493,18 @@ std::string prefix_ids(const std::string& svg, const std::string& prefix)
 
 PlotFrame plot_frame(const Plot& plot, int width, int height)
 {
-    Surface s(cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1));
-    Context cr(cairo_create(s.get()));
+    CairoSurface s(cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1));
+    CairoContext cr(cairo_create(s.get()));
     return layout(cr.get(), plot, clamp_side(width), clamp_side(height)).f;
 }
 
 Image plot(const Plot& plot, int width, int height)
 {
     const int W = clamp_side(width), H = clamp_side(height);
-    Surface s(cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H));
+    CairoSurface s(cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H));
     if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS) throw RuntimeError("plot: cairo could not make a " + std::to_string(W) + " x " + std::to_string(H) + " image");
     {
-        Context cr(cairo_create(s.get()));
+        CairoContext cr(cairo_create(s.get()));
         draw(cr.get(), plot, layout(cr.get(), plot, W, H), W, H);
     }
     cairo_surface_flush(s.get());
@@ -531,10 +531,10 @@ std::string plot_svg(const Plot& plot, int width, int height, const std::string&
     const int W = clamp_side(width), H = clamp_side(height);
     std::string svg;
     {
-        Surface s(cairo_svg_surface_create_for_stream(append, &svg, W, H));
+        CairoSurface s(cairo_svg_surface_create_for_stream(append, &svg, W, H));
         cairo_svg_surface_set_document_unit(s.get(), CAIRO_SVG_UNIT_PX);
         {
-            Context cr(cairo_create(s.get()));
+            CairoContext cr(cairo_create(s.get()));
             draw(cr.get(), plot, layout(cr.get(), plot, W, H), W, H);
         }
         cairo_surface_finish(s.get());
