@@ -10,7 +10,6 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <stb/stb_easy_font.h>
 
 #include "woven/analysis/drape_shadow.hpp"
 #include "woven/app/drape_report.hpp"
@@ -28,6 +27,7 @@
 #include "woven/io/surface_file.hpp"
 #include "woven/io/toml_reader.hpp"
 #include "woven/render/drape_view.hpp"
+#include "woven/render/figure.hpp"
 #include "woven/render/image.hpp"
 #include "woven/testers/cusick.hpp"
 
@@ -46,20 +46,6 @@ struct Canvas {
         p[0] = r;
         p[1] = g;
         p[2] = b;
-    }
-    void text(const std::string& s, int x, int y, std::uint8_t r, std::uint8_t g, std::uint8_t b)
-    {
-        std::vector<char> vbuf(s.size() * 270 + 64);
-        std::string buf = s;
-        const int quads = stb_easy_font_print(0, 0, buf.data(), nullptr, vbuf.data(), static_cast<int>(vbuf.size()));
-        const float* v = reinterpret_cast<const float*>(vbuf.data());
-        for (int q = 0; q < quads; ++q) {  // 4 vertices of 16 bytes (x, y, z, colour) per quad
-            const float* a = v + q * 16;
-            const int x0 = static_cast<int>(a[0]) * 2, y0 = static_cast<int>(a[1]) * 2, x1 = static_cast<int>(a[8]) * 2,
-                      y1 = static_cast<int>(a[9]) * 2;
-            for (int yy = y0; yy < y1; ++yy)
-                for (int xx = x0; xx < x1; ++xx) set(x + xx, y + yy, r, g, b);
-        }
     }
 };
 
@@ -96,8 +82,9 @@ render::Image shadow_picture(const geometry::TriangleMesh& surface, double speci
         c.set(kShadowPixels / 2, k, 170, 170, 170);
         c.set(k, kShadowPixels / 2, 170, 170, 170);
     }
-    c.text("warp (0 deg)", kShadowPixels / 2 + 6, 4, 200, 0, 0);
-    c.text("weft (90 deg)", kShadowPixels - 175, kShadowPixels / 2 + 6, 200, 0, 0);
+    const Vec3 red(200 / 255.0, 0, 0);
+    render::draw_label(c.img, "warp (0 deg)", kShadowPixels / 2 + 6, 6, 2, red);
+    render::draw_label(c.img, "weft (90 deg)", kShadowPixels - render::label_width("weft (90 deg)") - 6, kShadowPixels / 2 + 8, 2, red);
     for (int k = 0; k < nodes.count(); ++k) {
         const double a = nodes.angle_deg[k] * M_PI / 180;
         for (double t = nodes.radius_m[k]; t < specimen_radius * 1.06; t += 0.5 * px) {
@@ -108,7 +95,7 @@ render::Image shadow_picture(const geometry::TriangleMesh& surface, double speci
     }
     std::ostringstream label;
     label << "DC " << std::fixed << std::setprecision(1) << dc << " %, " << nodes_count << " nodes";
-    c.text(label.str(), 6, kShadowPixels - 24, 0, 0, 0);
+    render::draw_label(c.img, label.str(), 6, kShadowPixels - 8 - render::label_height(label.str()));
     return c.img;
 }
 
