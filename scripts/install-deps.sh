@@ -7,7 +7,7 @@ packages=(cmake ninja-build g++ make pkg-config
   libstb-dev libembree-dev libtbb-dev libsuitesparse-dev libopenblas0-pthread
   libgtest-dev libgmock-dev libbenchmark-dev time libbullet-dev
   clang libclang-rt-14-dev
-  python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
+  python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-pil
   python3-setuptools python3-wheel python3-pip python3-venv
   openmpi-bin chromium libjs-three libcairo2-dev fonts-dejavu-core)
 missing=()

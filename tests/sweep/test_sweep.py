@@ -24,6 +24,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "render"))
+import test_report_pages as pages  # noqa: E402  (Chromium, PNG pixels, the plots' check)
+
 FAILURES = []
 
 
@@ -226,52 +229,6 @@ def test_mpi(woven, tmp):
         del before
 
 
-def png_pixels(path):
-    """(width, height, rows of bytes, channels) of an 8-bit, non-interlaced RGB or RGBA PNG."""
-    import struct
-    import zlib
-    data = open(path, "rb").read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
-    at, idat, w = 8, b"", 0
-    while at < len(data):
-        n, kind = struct.unpack(">I4s", data[at:at + 8])
-        body = data[at + 8:at + 8 + n]
-        if kind == b"IHDR":
-            w, h, depth, colour, _, _, interlace = struct.unpack(">IIBBBBB", body)
-            assert depth == 8 and colour in (2, 6) and interlace == 0, (depth, colour, interlace)
-            ch = 3 if colour == 2 else 4
-        elif kind == b"IDAT":
-            idat += body
-        at += 12 + n
-    raw = zlib.decompress(idat)
-    stride = w * ch
-    rows, prev = [], bytearray(stride)
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - ch] if i >= ch else 0
-            b, c = prev[i], prev[i - ch] if i >= ch else 0
-            if f == 1:
-                line[i] = (line[i] + a) & 255
-            elif f == 2:
-                line[i] = (line[i] + b) & 255
-            elif f == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        prev = line
-    return w, h, rows, ch
-
-
-def chromium(args):
-    cmd = ["chromium", "--headless", "--disable-gpu", "--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-           "--hide-scrollbars", "--disable-dev-shm-usage"] + (["--no-sandbox"] if os.geteuid() == 0 else []) + args
-    return subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-
-
 def test_report(woven, tmp):
     plan = os.path.join(tmp, "plan.toml")
     open(plan, "w").write(plan_text("[1, 2]"))
@@ -283,7 +240,7 @@ def test_report(woven, tmp):
     outside = re.findall(r"<(?:script|img|link|iframe|source)\b[^>]*\b(?:src|href)\s*=\s*[\"'](?!data:)[^\"']*", html)
     check(outside == [] and ' src="data:image/png;base64,' in html, f"the page fetches nothing (pictures inlined): {outside[:3]}")
     check(html.count("<svg") >= 1 and "THREE" in html, "SVG plot and three.js inlined")
-    dom = chromium(["--dump-dom", "file://" + page])
+    dom = pages.chromium(["--dump-dom", "file://" + page])
     body = re.search(r"<body[^>]*>", dom.stdout)
     check(body and 'data-ready="1"' in body.group(0), f"Chromium: the page sets data-ready: {body.group(0) if body else dom.stderr[-500:]}")
     check(body and 'data-view="webgl"' in body.group(0), "Chromium: the 3-D view was built with WebGL (software GL)")
@@ -292,8 +249,6 @@ def test_report(woven, tmp):
     check(rows == ["fabric-cotton_seed-1", "fabric-cotton_seed-2", "fabric-wool_seed-1", "fabric-wool_seed-2"], f"the table's rows: {rows}")
     # The plots: SVG vertices back through the axes to the embedded data (test_report_pages.py's
     # check), and the DC plot's points the mean over the seeds of sweep.json's rows per fabric.
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "render"))
-    import test_report_pages as pages
     plots = pages.plots_of(dom.stdout)
     for pid, (data, svg) in plots.items():
         pages.check_plot(pid, data, svg)
@@ -308,10 +263,10 @@ def test_report(woven, tmp):
     check(first is not None and len(got) == len(means) and all(abs(a - b[0]) <= 1e-9 * abs(b[0]) for a, b in zip(got, means)),
           f"the DC plot's points are the seeds' means per fabric: {got} vs {means}")
     shot = os.path.join(tmp, "shot.png")
-    chromium(["--window-size=1200,1700", "--screenshot=" + shot, "file://" + page])
+    pages.chromium(["--window-size=1200,1700", "--screenshot=" + shot, "file://" + page])
     check(os.path.isfile(shot), "Chromium wrote the screenshot")
     if os.path.isfile(shot):
-        w, h, px, ch = png_pixels(shot)
+        w, h, px, ch = pages.png_pixels(shot)
         colours, cloth = set(), 0
         for line in px[::2]:
             for i in range(0, len(line), ch * 2):

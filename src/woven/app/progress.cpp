@@ -272,7 +272,7 @@ bool Progress::operator()(const sim::StepInfo& info)
         e.residual = info.max_residual_rel;
         e.tolerance = tolerance_;
         e.fraction = last_fraction_;
-        e.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        e.wall_s = seconds_since(start_);
         to_sink(e);
         return !interrupt_requested();
     }
@@ -304,7 +304,7 @@ bool Progress::iteration(const sim::IterationInfo& info)
         e.residual = info.residual_rel;
         e.tolerance = info.tolerance;
         e.fraction = last_fraction_;
-        e.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        e.wall_s = seconds_since(start_);
         to_sink(e);
         return !interrupt_requested();
     }

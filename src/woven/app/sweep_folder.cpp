@@ -76,6 +76,13 @@ nlohmann::json value_json(const io::SweepValue& v)
     return std::stod(v.text);
 }
 
+nlohmann::json point_json(const io::SweepPoint& p)
+{
+    nlohmann::json values = nlohmann::json::object();
+    for (const auto& v : p.values) values[v.key] = value_json(v);
+    return {{"point", p.name}, {"index", p.index}, {"values", values}};
+}
+
 SweepFolderLock::SweepFolderLock(const std::string& dir)
 {
     fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);

@@ -124,12 +124,7 @@ MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
     std::vector<std::string> output_keys;
     for (std::size_t index = 0; index < plan.size(); ++index) {
         const io::SweepPoint p = plan.point(index);
-        nlohmann::json row;
-        row["point"] = p.name;
-        row["index"] = p.index;
-        nlohmann::json values = nlohmann::json::object();
-        for (const auto& v : p.values) values[v.key] = value_json(v);
-        row["values"] = values;
+        nlohmann::json row = point_json(p);
         const PointState st = point_state(sweep, p);
         if (st.done) {
             ++counts.done;

@@ -27,6 +27,8 @@ std::optional<nlohmann::json> read_manifest(const std::filesystem::path& dir);
 
 /// A value as JSON: a number as a number (integers as integers), else the text.
 nlohmann::json value_json(const io::SweepValue& v);
+/// A point as point.json and sweep.json's rows name it: {"point", "index", "values": {key: value}}.
+nlohmann::json point_json(const io::SweepPoint& p);
 
 /// The sweep's own folders (.work, failed) are made here, never followed: a symlink planted in
 /// their place (which would send failure records or work folders elsewhere) is bad usage.

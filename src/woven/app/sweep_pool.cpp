@@ -310,12 +310,7 @@ private:
             say(line.str());
             return;
         }
-        nlohmann::json pj;
-        pj["point"] = p.name;
-        pj["index"] = p.index;
-        nlohmann::json values = nlohmann::json::object();
-        for (const auto& v : p.values) values[v.key] = value_json(v);
-        pj["values"] = values;
+        nlohmann::json pj = point_json(p);
         pj["plan"] = point_signature(p);
         pj["command_line"] = r.args;
         pj["wall_time_s"] = wall;
