@@ -3,6 +3,7 @@
 #include <iostream>
 #include <mutex>
 #include <sstream>
+#include <string_view>
 
 #include "bindings.hpp"
 #include "woven/app/progress.hpp"
@@ -296,6 +297,9 @@ void run_command(const std::function<void(const app::Monitor&)>& f, std::string*
     monitor.interrupt = &poll_python;
     if (!progress.is_none())
         monitor.progress = [&](const app::ProgressEvent& e) {
+            // The ends of a drape's steps and of an activity are for a display: not passed on.
+            const std::string_view kind = e.event;
+            if (kind == "steps-end" || kind == "activity-end") return true;
             py::gil_scoped_acquire gil;
             if (signal_seen()) return false;
             return call_progress(progress, event_dict(e), callback_error);

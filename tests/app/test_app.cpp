@@ -2,10 +2,18 @@
 // numbers (and the JSON written) out, the command's one-line errors for values out of range,
 // progress and interrupts through the request's Monitor.
 #include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -38,6 +46,44 @@ struct TempDir {
         fs::remove_all(path, ec);
     }
 };
+
+/// File descriptor 2 sent to `file` while alive (what the C library or a stream writes on stderr).
+class StderrToFile {
+public:
+    explicit StderrToFile(const fs::path& file) : file_(file)
+    {
+        std::fflush(stderr);
+        saved_ = ::dup(STDERR_FILENO);
+        const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        ::dup2(fd, STDERR_FILENO);
+        ::close(fd);
+    }
+    ~StderrToFile() { restore(); }
+    /// Puts stderr back and returns what was written meanwhile.
+    std::string restore()
+    {
+        if (saved_ >= 0) {
+            std::fflush(stderr);
+            ::dup2(saved_, STDERR_FILENO);
+            ::close(saved_);
+            saved_ = -1;
+        }
+        std::ifstream in(file_);
+        return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    }
+
+private:
+    fs::path file_;
+    int saved_ = -1;
+};
+
+/// The handler installed for `signal` now.
+void (*handler_of(int signal))(int)
+{
+    struct sigaction now {};
+    ::sigaction(signal, nullptr, &now);
+    return now.sa_handler;
+}
 
 /// The message of the InputError `f` throws ("" when it throws none).
 template <class F>
@@ -178,9 +224,113 @@ TEST(AppMonitor, AJobsMonitorGetsItsEventsAndInterruptsOnlyWhileItRuns)
         a.update(0.5, "half");
         EXPECT_TRUE(app::interrupt_requested());
     }
-    EXPECT_EQ(events, std::vector<std::string>{"activity probe"});
+    EXPECT_EQ(events, (std::vector<std::string>{"activity probe", "activity-end probe"}));
     EXPECT_FALSE(app::interrupt_requested());  // the poll went with the job
     app::Activity after("after");
     after.update(0.5);
-    EXPECT_EQ(events.size(), 1u);  // the sink went too
+    EXPECT_EQ(events.size(), 2u);  // the sink went too
+}
+
+TEST(AppMonitor, ADrapesStepsAndIterationsReachTheSinkWithTheirWayToTheToleranceAndEndOnce)
+{
+    std::vector<app::ProgressEvent> events;
+    {
+        app::Monitor m;
+        m.progress = [&](const app::ProgressEvent& e) {
+            events.push_back(e);
+            return e.step != 3;  // stop at step 3
+        };
+        const app::MonitorScope scope(m);
+        app::Progress p(400, 1e-3);
+        sim::StepInfo s;
+        s.step = 1;
+        s.time = 0.01;
+        s.energy = -0.5;
+        s.max_move = 1e-3;
+        s.max_residual_rel = 1.0;
+        EXPECT_TRUE(p(s));
+        sim::IterationInfo it;
+        it.step = 2;
+        it.iteration = 1;
+        it.total_iterations = 4;
+        it.time_step = 0.01;
+        it.residual_rel = 0.05;
+        it.tolerance = 1e-4;
+        EXPECT_TRUE(p.iteration(it));
+        s.step = 2;
+        s.max_residual_rel = 0.1;
+        EXPECT_TRUE(p(s));
+        s.step = 3;
+        s.max_residual_rel = 0.01;
+        EXPECT_FALSE(p(s));  // the sink said stop
+        EXPECT_TRUE(app::interrupt_requested());
+        p.finish();
+    }  // p's destructor ends nothing more
+    EXPECT_FALSE(app::interrupt_requested());  // the stop went with the job's monitor
+    ASSERT_EQ(events.size(), 5u);
+    std::vector<std::string> kinds;
+    for (const auto& e : events) kinds.push_back(e.event);
+    EXPECT_EQ(kinds, (std::vector<std::string>{"step", "iteration", "step", "step", "steps-end"}));
+    EXPECT_EQ(events[0].max_steps, 400);
+    EXPECT_DOUBLE_EQ(events[0].time_s, 0.01);
+    EXPECT_DOUBLE_EQ(events[0].energy_J, -0.5);
+    EXPECT_DOUBLE_EQ(events[0].move_m, 1e-3);
+    EXPECT_DOUBLE_EQ(events[0].tolerance, 1e-3);
+    EXPECT_DOUBLE_EQ(events[0].fraction, 0.0);
+    EXPECT_EQ(events[1].total_iterations, 4);
+    EXPECT_DOUBLE_EQ(events[1].time_step_s, 0.01);
+    EXPECT_DOUBLE_EQ(events[1].residual, 0.05);
+    EXPECT_DOUBLE_EQ(events[1].tolerance, 1e-4);
+    EXPECT_NEAR(events[2].fraction, 1.0 / 3.0, 1e-12);  // log(1 / 0.1) / log(1 / 1e-3)
+    EXPECT_NEAR(events[3].fraction, 2.0 / 3.0, 1e-12);
+    EXPECT_NEAR(events[4].fraction, 2.0 / 3.0, 1e-12);  // the bar as it ended
+    for (const auto& e : events) EXPECT_GE(e.wall_s, 0.0);
+}
+
+TEST(AppMonitor, JobsWithAnEmptyMonitorPrintNothingAndInstallNoSignalHandlers)
+{
+    // Activities would speak at once (the command line's display waits two seconds by default).
+    ::setenv("WOVEN_PROGRESS_DELAY_S", "0", 1);
+    ASSERT_EQ(handler_of(SIGINT), SIG_DFL);
+    ASSERT_EQ(handler_of(SIGTERM), SIG_DFL);
+    const TempDir dir;
+    fs::create_directories(dir.path);
+    StderrToFile capture(dir.path / "stderr.txt");
+    // A drape as the command runs it: the steps through the step adapter, drape.png rendered.
+    std::vector<std::string> warnings;
+    app::DrapeRequest request;
+    request.scene = "cube";
+    request.fabric = "cotton";
+    request.grid = 7;
+    request.seed = 1;
+    request.threads = 1;
+    const auto setup = app::prepare_drape(std::move(request), warnings);
+    app::Progress progress(setup->max_steps, setup->scene.solver.residual_tolerance);
+    sim::Result result = app::solve_drape(*setup, [&](const sim::StepInfo& s) { return progress(s); },
+                                          [&](const sim::IterationInfo& i) { return progress.iteration(i); });
+    progress.finish();
+    const app::DrapeRun run = app::finish_drape(*setup, std::move(result), false);
+    app::DrapeWriteOptions write;
+    write.width = 64;
+    write.height = 48;
+    app::write_drape_outputs(run, (dir.path / "drape").string(), write);
+    // A Cusick run (it installed the SIGINT and SIGTERM handlers itself).
+    app::CusickRequest cusick;
+    cusick.fabric = "cotton";
+    cusick.spacing_cm = 2;
+    cusick.max_steps = 5;
+    cusick.threads = 1;
+    cusick.out = dir.path / "cusick";
+    cusick.render = false;  // 1024 x 768: seconds
+    const app::CusickResult c = app::cusick(cusick);
+    const std::string err = capture.restore();
+    EXPECT_EQ(err, "");
+    EXPECT_EQ(handler_of(SIGINT), SIG_DFL);
+    EXPECT_EQ(handler_of(SIGTERM), SIG_DFL);
+    EXPECT_TRUE(run.result.converged);
+    EXPECT_GT(run.result.steps, 1);
+    EXPECT_EQ(c.runs.size(), 1u);
+    EXPECT_TRUE(fs::is_regular_file(dir.path / "drape" / "drape.png"));
+    EXPECT_TRUE(fs::is_regular_file(dir.path / "cusick" / "cusick.json"));
+    ::unsetenv("WOVEN_PROGRESS_DELAY_S");
 }

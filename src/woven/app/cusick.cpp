@@ -398,7 +398,6 @@ CusickResult cusick(const CusickRequest& request)
     check_output_targets(out_dir, members);
     members.pop_back();
     io::OutputSet set(out_dir, members);
-    install_interrupt_handler();
 
     // 2. The runs: seeds seed, seed + 1, ...
     if (request.on_start) request.on_start(cusick_banner(name, co, setup, runs));

@@ -64,7 +64,8 @@ struct CusickRequest {
     std::optional<std::filesystem::path> out;       ///< absent: out/cusick-<fabric>
     bool render = true;                             ///< drape.png
     /// Each may be empty: the fabric's warnings once read; the run's one-line description
-    /// before the runs; each run's line once it is done.
+    /// before the runs (when the output folder is checked: a front end installs its signal
+    /// handlers there); each run's line once it is done.
     std::function<void(const std::vector<std::string>&)> on_warnings;
     std::function<void(const std::string&)> on_start;
     std::function<void(const CusickRunLine&)> on_run;

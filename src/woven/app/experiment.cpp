@@ -737,8 +737,6 @@ ExperimentResult run_map(const ExperimentRequest& o)
         if (!pr->plan) return {pr->message, nlohmann::json()};
         lock.emplace(pr->dir);
         points = pr->plan->points();
-    } else {
-        install_interrupt_handler();
     }
     io::OutputSet set(out_dir, {"corner_map.png", "corner_map.md"});
     std::size_t next = 0;

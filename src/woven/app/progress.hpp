@@ -1,9 +1,10 @@
 #pragma once
-// Progress of a drape on stderr, and the handling of SIGINT (Ctrl-C) and SIGTERM (batch
-// schedulers): the first signal asks the solver to stop after the current step; the state
-// reached is written as a complete set marked interrupted, and woven exits with 128 + the
-// signal (130, 143). A second signal exits at once without publishing anything: the previous
-// output set stays as it was (the new run's temporaries are removed by the next run).
+// Progress and interruption as the jobs give them to a front end: events to the progress sink in
+// force (the command line's display on stderr, a Python callable) and an interrupt flag that a
+// front end raises (the command line's SIGINT / SIGTERM handlers, cli/progress_display.hpp) or a
+// poll it sets. The first interrupt asks the solver to stop after the current step; the state
+// reached is written as a complete set marked interrupted. With no sink set, app prints nothing;
+// it installs no signal handler of its own (but the sweep's, while its children run).
 #include <chrono>
 #include <functional>
 #include <mutex>
@@ -13,46 +14,55 @@
 
 namespace woven::app {
 
-/// Installs `handler` for SIGINT and SIGTERM (system calls restarted).
-void install_signal_handlers(void (*handler)(int));
-/// Installs the SIGINT and SIGTERM handlers (idempotent); nothing while an interrupt poll is set
-/// (the Python module: the interpreter's handlers stay).
-void install_interrupt_handler();
-/// True once SIGINT or SIGTERM was received.
+/// Asks the running job to stop as a signal does (async-signal-safe: a front end's handler calls
+/// it). Returns false when one was asked for already (the first signal is the one kept).
+bool request_interrupt(int signal);
+/// True once an interrupt was asked for, the poll said stop or a sink returned false.
 bool interrupt_requested();
 /// An extra source of interrupts, polled by interrupt_requested() (the Python module: a Ctrl-C
 /// the interpreter has seen). Once it returned true, interrupt_requested() stays true until the
 /// poll is set again. Null: none.
 void set_interrupt_poll(bool (*poll)());
-/// false: Progress draws nothing (the Python module, whose progress goes to a callable).
-void set_progress_shown(bool shown);
+/// 128 + the signal of the first request_interrupt (130 for SIGINT, 143 for SIGTERM); 130 when
+/// there was none.
+int interrupted_exit_code();
+/// Installs `handler` for SIGINT and SIGTERM (system calls restarted): for a front end, and for
+/// the sweep, which takes the signals over while its children run.
+void install_signal_handlers(void (*handler)(int));
 
-/// What the progress display shows, for a caller that shows it another way (the Python
-/// module's progress=): a drape's step ("step") or Newton iteration ("iteration"), or a long
-/// wait's update ("activity": label, fraction, detail).
+/// What a job reports of its progress, enough for a front end to draw it:
+/// - "step" after each step of a drape, "iteration" before each Newton iteration (fast solver)
+///   or after each phase 2 (paper solver), "steps-end" when the drape's steps are over (after
+///   at least one step or iteration was reported);
+/// - "activity" an update of a long wait other than a drape's steps (a picture, the testers'
+///   static solves, a sweep's points), at most every 0.1 s; "activity-end" when it is over
+///   (after at least one update was reported). Activities may nest: `activity` tells them apart.
 struct ProgressEvent {
     const char* event = "";
-    std::string label;       ///< activity: what is being waited for ("kes-test cotton")
-    std::string detail;      ///< activity: what is being done now
-    double fraction = 0;     ///< of the way (0..1): the residual's way to the tolerance, or the activity's share done
-    int step = 0;            ///< step, iteration: the step
-    int max_steps = 0;       ///< step: the step limit (0: none)
-    int iteration = 0;       ///< iteration: the Newton iteration in the step
-    double energy_J = 0;     ///< step: the model's energy
-    double residual = 0;     ///< step, iteration: the residual (m g)
-    double tolerance = 0;    ///< step, iteration: its tolerance
-    double wall_s = 0;       ///< since the display started
+    std::string label;          ///< activity: what is being waited for ("kes-test cotton")
+    std::string detail;         ///< activity: what is being done now
+    int activity = 0;           ///< activity: its number in the process
+    double fraction = 0;        ///< of the way (0..1): the residual's way to the tolerance (log scale), or the activity's share done
+    int step = 0;               ///< step, iteration: the step
+    int max_steps = 0;          ///< step: the step limit (0: none)
+    int iteration = 0;          ///< iteration: the Newton iteration (or the paper solver's sweep) in the step
+    int total_iterations = 0;   ///< iteration: the iterations of the whole drape so far
+    double time_s = 0;          ///< step: the simulated time
+    double time_step_s = 0;     ///< iteration: the step's size (s)
+    double energy_J = 0;        ///< step: the model's energy
+    double residual = 0;        ///< step, iteration: the residual (m g; an iteration's is not finite for the paper solver)
+    double tolerance = 0;       ///< step, iteration: its tolerance
+    double move_m = 0;          ///< step: the largest particle move
+    double wall_s = 0;          ///< since the drape's steps or the activity started
 };
-/// Receives each event (instead of stderr) while set; returning false stops a drape as an
-/// interrupt does. From one thread at a time. Empty: none (the default).
+/// Receives each event while set; returning false stops a drape as an interrupt does. Called
+/// from one thread at a time. Empty: none (the default; nothing is shown).
 void set_progress_sink(std::function<bool(const ProgressEvent&)> sink);
-/// 128 + the first signal received (130 for SIGINT, 143 for SIGTERM); 130 when none was.
-int interrupted_exit_code();
 
-/// How a front end follows a job (a member of each job's request): its progress events instead
-/// of the progress display on stderr, an interrupt poll besides SIGINT and SIGTERM (the Python
-/// module: a Ctrl-C the interpreter has seen; while one is set the signal handlers are not
-/// installed), and whether the display draws at all. Empty: the display on stderr, signals only.
+/// How a front end follows a job (a member of each job's request): its progress events (instead
+/// of the sink in force), an interrupt poll besides request_interrupt (the Python module: a Ctrl-C
+/// the interpreter has seen), and quiet: no events to the sink in force while the job runs.
+/// Empty: the sink and the interrupts in force.
 struct Monitor {
     std::function<bool(const ProgressEvent&)> progress;  ///< false: stop the job as an interrupt does
     bool (*interrupt)() = nullptr;
@@ -70,23 +80,12 @@ public:
 private:
     bool active_ = false;
     bool (*poll_)() = nullptr;
-    bool shown_ = true;
     std::function<bool(const ProgressEvent&)> sink_;
 };
 
-/// Columns a progress line may take on stderr: the terminal's width less one (80 when it does
-/// not say), 200 when stderr is not a terminal.
-int progress_columns();
-/// `line` cut to `columns` characters (an ellipsis marks the cut).
-std::string fit_line(const std::string& line, int columns);
-
-/// Word on a long wait other than a drape's steps (a picture, the testers' static solves, a
-/// sweep's points), on stderr: nothing for its first two seconds (the environment's
-/// WOVEN_PROGRESS_DELAY_S sets another delay), then, when the work calls update(), on a terminal
-/// a bar that fills with the fraction done, the label and the time, redrawn in place within the
-/// terminal's width; otherwise a line "woven: LABEL: 42 % (DETAIL), 3.1 s" at most every two
-/// seconds. It ends with how long it took, if it said anything. Thread-safe. Silent where
-/// set_progress_shown(false).
+/// A long wait other than a drape's steps, reported to the sink: "activity" events when the work
+/// calls update() (the first at once, then at most every 0.1 s), "activity-end" when it ends (if
+/// it reported anything). Thread-safe.
 class Activity {
 public:
     explicit Activity(std::string label);
@@ -99,46 +98,40 @@ public:
 private:
     std::mutex mutex_;
     std::string label_;
-    bool tty_;
-    double delay_s_;
+    int id_;
     double fraction_ = 0;
-    bool shown_ = false;
+    bool reported_ = false;
     std::chrono::steady_clock::time_point start_, last_;
 };
 
-/// The progress callback: a bar redrawn with '\r' when stderr is a terminal, plain lines about
-/// every 0.5 s otherwise (and always the first call). The bar measures the residual's way down
-/// to the tolerance on a log scale, log(r0 / r) / log(r0 / tolerance), r0 the largest seen, so it moves as the
-/// cloth settles whatever the step limit. Returns false (stop) once a signal was received.
+/// A drape's progress callbacks, reported to the sink as "step" and "iteration" events. The
+/// fraction measures the residual's way down to the tolerance on a log scale,
+/// log(r0 / r) / log(r0 / tolerance), r0 the largest seen, so that it moves as the cloth settles
+/// whatever the step limit. Each returns false (stop) once an interrupt was asked for.
 class Progress {
 public:
     Progress(int max_steps, double residual_tolerance);
+    ~Progress();  ///< finish()
+    Progress(const Progress&) = delete;
+    Progress& operator=(const Progress&) = delete;
     /// After each step (sim::ProgressCallback).
     bool operator()(const sim::StepInfo& info);
     /// Before each Newton iteration (fast solver) or after each phase 2 (paper solver), so that
-    /// the display moves within a long step (sim::IterationCallback).
+    /// a display moves within a long step (sim::IterationCallback).
     bool iteration(const sim::IterationInfo& info);
-    /// Ends the bar line (when one was drawn).
+    /// "steps-end" (once, if anything was reported).
     void finish();
 
     /// Fraction of the way from the largest residual seen to the tolerance, in [0, 1].
     double fraction(double residual);
 
 private:
-    /// True (and the clock reset) when a line is due.
-    bool due();
-    /// `compact` after the bar on a terminal (cut to its width), else `line`.
-    void show(const char* compact, const char* line);
-
-    bool tty_;
     int max_steps_;
     double tolerance_;
     double peak_residual_ = 0;
-    std::string last_compact_;  ///< the last line drawn after the bar
-    double last_fraction_ = 0;  ///< the bar: the last step's way to the tolerance
-    bool drawn_ = false;
-    bool any_ = false;
-    std::chrono::steady_clock::time_point start_, last_;
+    double last_fraction_ = 0;  ///< the last step's way to the tolerance
+    bool reported_ = false;
+    std::chrono::steady_clock::time_point start_;
 };
 
 }  // namespace woven::app

@@ -13,8 +13,8 @@ namespace woven::app {
 render::DrapeScene scene_view(render::ClothSurface cloth, const geometry::ObstacleSet& obstacles, const kes::FabricData& fabric,
                               const io::CameraSpec* camera = nullptr);
 
-/// A width x height picture of `scene` from `view`, framed tightly; a wait over two seconds
-/// gets word on stderr naming `what` (progress.hpp Activity).
+/// A width x height picture of `scene` from `view`, framed tightly; its progress is an activity
+/// naming `what` (progress.hpp Activity).
 render::Image render_view(const render::DrapeScene& scene, render::View view, int width, int height,
                           const std::string& what = "picture");
 

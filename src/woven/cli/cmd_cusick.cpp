@@ -13,6 +13,7 @@
 #include "woven/app/progress.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/progress_display.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/toml_reader.hpp"
 
@@ -95,7 +96,10 @@ CusickRequest cusick_request(const CusickCommandOptions& o)
     if (o.out) r.out = parse_path(*o.out, "--out");
     r.render = !o.no_render;
     r.on_warnings = print_warnings;
-    r.on_start = [](const std::string& banner) { std::cerr << "woven: " << banner << "\n"; };
+    r.on_start = [](const std::string& banner) {
+        install_interrupt_handler();  // the runs begin: a signal now writes the runs done
+        std::cerr << "woven: " << banner << "\n";
+    };
     r.on_run = print_run;
     return r;
 }

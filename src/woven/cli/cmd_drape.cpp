@@ -13,6 +13,7 @@
 #include "woven/app/progress.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/progress_display.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/scene_file.hpp"
 

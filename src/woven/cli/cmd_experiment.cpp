@@ -13,6 +13,7 @@
 #include "woven/app/progress.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/progress_display.hpp"
 #include "woven/common/error.hpp"
 
 namespace woven::cli {
@@ -63,7 +64,11 @@ ExperimentRequest experiment_request(const ExperimentOptions& o, const std::stri
 
 int run_experiment(const ExperimentOptions& o, const std::string& command)
 {
-    const ExperimentResult r = experiment(experiment_request(o, command));
+    const ExperimentRequest request = experiment_request(o, command);
+    // The map of reused drapes is drawn in this process: a signal stops it before it publishes
+    // (the sweep that drapes takes the signals over itself).
+    if (request.which == Experiment::MAP && request.reuse) install_interrupt_handler();
+    const ExperimentResult r = experiment(request);
     if (r.interrupted) {
         std::cerr << "woven: interrupted; nothing written (the folder keeps the previous complete set)\n";
         return r.signal != 0 ? 128 + r.signal : interrupted_exit_code();

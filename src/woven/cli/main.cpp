@@ -18,6 +18,7 @@
 
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
+#include "woven/cli/progress_display.hpp"
 #include "woven/common/error.hpp"
 
 namespace woven::cli {
@@ -89,6 +90,10 @@ int main(int argc, char** argv)
     add_check_command(app, exit_code);
     add_sweep_command(app, exit_code);
     add_report_command(app, exit_code);
+    // The jobs' progress on stderr (the application floor prints none itself); --quiet: none.
+    show_progress_on_stderr();
+    for (CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+        sub->add_flag_callback("--quiet", [] { set_progress_quiet(true); }, "No progress on stderr (warnings, errors and results still)");
 
     try {
         // CLI11 reports a mistyped command as "A subcommand is required"; name it instead.
