@@ -1,11 +1,14 @@
 // woven cusick on the command line: help, every bad option gives the one-line error and exit 2
 // with nothing written, and a small specimen's run writes its outputs and a complete cusick.json.
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -108,4 +111,44 @@ TEST_F(CusickCli, TheDiscsClampIsWrittenInTheReport)
     EXPECT_DOUBLE_EQ(j.at("pinned_radius_m").get<double>(), 0.03 - 0.015);  // r_d - 1.5 sigma
     EXPECT_GT(j.at("sandwiched_particles").get<int>(), 8);
     EXPECT_TRUE(j.at("converged").get<bool>());
+}
+
+// Ctrl-C during a run (the command line's handler, installed as the runs begin): the run stops
+// after the current step, the runs done are written with interrupted: true, exit 130.
+TEST_F(CusickCli, AnInterruptWritesTheRunsDone)
+{
+    const fs::path err = dir_ / "stderr.txt";
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        if (::chdir(dir_.c_str()) != 0) ::_exit(99);
+        if (!std::freopen(err.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) ::_exit(99);
+        ::execl(WOVEN_BINARY, WOVEN_BINARY, "cusick", "cotton", "--spacing-cm", "0.7", "--threads", "1", "--no-render", "--out", "c",
+                static_cast<char*>(nullptr));
+        ::_exit(98);
+    }
+    // Wait for the first step's line, then press Ctrl-C.
+    int status = 0;
+    bool exited = false;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < deadline) {
+        if (::waitpid(pid, &status, WNOHANG) == pid) {
+            exited = true;
+            break;
+        }
+        if (woven::test::slurp(err).find("\nstep ") != std::string::npos) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (!exited) {
+        ::kill(pid, SIGINT);
+        ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    }
+    if (exited && WIFEXITED(status) && WEXITSTATUS(status) == 0) GTEST_SKIP() << "the run finished before its first step's line";
+    const std::string said = woven::test::slurp(err);
+    ASSERT_TRUE(WIFEXITED(status)) << said;
+    EXPECT_EQ(WEXITSTATUS(status), 130) << said;
+    EXPECT_THAT(said, HasSubstr("woven: interrupt: stopping after this step"));
+    EXPECT_THAT(said, HasSubstr("woven: interrupted; the outputs hold the runs done (not converged)\n"));
+    const auto j = nlohmann::json::parse(woven::test::slurp(dir_ / "c" / "cusick.json"));
+    EXPECT_TRUE(j.at("interrupted").get<bool>());
 }
