@@ -106,10 +106,11 @@ TEST(ProgressDisplay, ATerminalsBarIsRedrawnWhenItGainsACellAndEndsWithTheLastSt
     d(end);
     d(step(1, 0.0, 0.01));  // the next drape's bar starts afresh
     const std::string bar0 = "[....................] ", bar10 = "[##########..........] ";
-    EXPECT_EQ(out.text(), "\r" + bar0 + "step 1/400  E -0.25 J  residual 0.5/0.001  0.0 s\033[K" +  //
-                              "\r" + bar10 + "step 3/400  E -0.25 J  residual 0.5/0.001  0.0 s\033[K" +  //
-                              "\r" + bar10 + "step 3/400  E -0.25 J  residual 0.5/0.001  0.0 s\033[K\n" +
-                              "\r" + bar0 + "step 1/400  E -0.25 J  residual 0.5/0.001  0.0 s\033[K");
+    EXPECT_EQ(out.text(),
+              "\r" + bar0 + "step 1/400  E -0.25 J  residual 0.5/0.001  0.0 s\033[K" +       //
+                  "\r" + bar10 + "step 3/400  E -0.25 J  residual 0.5/0.001  0.0 s\033[K" +  //
+                  "\r" + bar10 + "step 3/400  E -0.25 J  residual 0.5/0.001  0.0 s\033[K\n" + "\r" + bar0
+                  + "step 1/400  E -0.25 J  residual 0.5/0.001  0.0 s\033[K");
     // Cut to the terminal's width.
     const Written narrow;
     cli::ProgressDisplay n(narrow.file(), true, 2.0, 30);
@@ -126,7 +127,7 @@ TEST(ProgressDisplay, AnActivityWaitsForItsDelaySpeaksEveryTwoSecondsAndSaysHowL
     d(activity("activity", 1, "quick", 0.5, "", 0.1));  // under the delay
     d(activity("activity-end", 1, "quick", 1.0, "", 0.3));
     d(activity("activity", 2, "kes-test cotton", 0.25, "bending warp", 2.1));
-    d(activity("activity", 3, "rendering a.png (64 x 48)", 0.5, "", 2.2));  // nested: its own clock
+    d(activity("activity", 3, "rendering a.png (64 x 48)", 0.5, "", 2.2));    // nested: its own clock
     d(activity("activity", 2, "kes-test cotton", 0.3, "bending warp", 3.0));  // under two seconds
     d(activity("activity", 2, "kes-test cotton", 0.5, "", 4.2));
     d(activity("activity-end", 3, "rendering a.png (64 x 48)", 1.0, "", 2.6));

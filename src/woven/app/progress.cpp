@@ -12,9 +12,9 @@ namespace {
 std::atomic<int> g_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free);
 std::atomic<bool (*)()> g_poll{nullptr};
-std::atomic<bool> g_polled{false};  ///< the poll or a sink said stop
-std::mutex g_sink_mutex;                             ///< one event at a time
-std::function<bool(const ProgressEvent&)> g_sink;    ///< set while a front end shows progress
+std::atomic<bool> g_polled{false};                 ///< the poll or a sink said stop
+std::mutex g_sink_mutex;                           ///< one event at a time
+std::function<bool(const ProgressEvent&)> g_sink;  ///< set while a front end shows progress
 std::atomic<bool> g_has_sink{false};
 std::atomic<int> g_activities{0};  ///< activities numbered so far
 
@@ -98,8 +98,7 @@ int interrupted_exit_code()
 
 Activity::Activity(std::string label)
     : label_(std::move(label)), id_(++g_activities), start_(std::chrono::steady_clock::now()), last_(start_)
-{
-}
+{}
 
 Activity::~Activity()
 {
@@ -135,8 +134,7 @@ void Activity::update(double fraction, const std::string& detail)
 
 Progress::Progress(int max_steps, double residual_tolerance)
     : max_steps_(max_steps), tolerance_(residual_tolerance), start_(std::chrono::steady_clock::now())
-{
-}
+{}
 
 Progress::~Progress() { finish(); }
 

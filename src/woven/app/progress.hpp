@@ -39,21 +39,21 @@ void install_signal_handlers(void (*handler)(int));
 ///   (after at least one update was reported). Activities may nest: `activity` tells them apart.
 struct ProgressEvent {
     const char* event = "";
-    std::string label;          ///< activity: what is being waited for ("kes-test cotton")
-    std::string detail;         ///< activity: what is being done now
-    int activity = 0;           ///< activity: its number in the process
-    double fraction = 0;        ///< of the way (0..1): the residual's way to the tolerance (log scale), or the activity's share done
-    int step = 0;               ///< step, iteration: the step
-    int max_steps = 0;          ///< step: the step limit (0: none)
-    int iteration = 0;          ///< iteration: the Newton iteration (or the paper solver's sweep) in the step
-    int total_iterations = 0;   ///< iteration: the iterations of the whole drape so far
-    double time_s = 0;          ///< step: the simulated time
-    double time_step_s = 0;     ///< iteration: the step's size (s)
-    double energy_J = 0;        ///< step: the model's energy
-    double residual = 0;        ///< step, iteration: the residual (m g; an iteration's is not finite for the paper solver)
-    double tolerance = 0;       ///< step, iteration: its tolerance
-    double move_m = 0;          ///< step: the largest particle move
-    double wall_s = 0;          ///< since the drape's steps or the activity started
+    std::string label;         ///< activity: what is being waited for ("kes-test cotton")
+    std::string detail;        ///< activity: what is being done now
+    int activity = 0;          ///< activity: its number in the process
+    double fraction = 0;       ///< of the way (0..1): the residual's way to the tolerance (log scale), or the activity's share done
+    int step = 0;              ///< step, iteration: the step
+    int max_steps = 0;         ///< step: the step limit (0: none)
+    int iteration = 0;         ///< iteration: the Newton iteration (or the paper solver's sweep) in the step
+    int total_iterations = 0;  ///< iteration: the iterations of the whole drape so far
+    double time_s = 0;         ///< step: the simulated time
+    double time_step_s = 0;    ///< iteration: the step's size (s)
+    double energy_J = 0;       ///< step: the model's energy
+    double residual = 0;       ///< step, iteration: the residual (m g; an iteration's is not finite for the paper solver)
+    double tolerance = 0;      ///< step, iteration: its tolerance
+    double move_m = 0;         ///< step: the largest particle move
+    double wall_s = 0;         ///< since the drape's steps or the activity started
 };
 /// Receives each event while set; returning false stops a drape as an interrupt does. Called
 /// from one thread at a time. Empty: none (the default; nothing is shown).

@@ -69,8 +69,7 @@ double activity_delay_s()
 
 ProgressDisplay::ProgressDisplay(std::FILE* out, bool terminal, double delay_s, int columns)
     : out_(out), tty_(terminal), delay_s_(delay_s), columns_(columns)
-{
-}
+{}
 
 int ProgressDisplay::columns() const { return columns_ > 0 ? columns_ : progress_columns(); }
 
@@ -140,10 +139,10 @@ void ProgressDisplay::on_iteration(const app::ProgressEvent& e)
     char compact[128];
     if (std::isfinite(e.residual)) {
         std::snprintf(line, sizeof line,
-                      "step %d  Newton iteration %d (%d in all)  dt %.3g s  step residual %.3g m g (step tolerance %.3g)  wall %.1f s", e.step,
-                      e.iteration, e.total_iterations, e.time_step_s, e.residual, e.tolerance, e.wall_s);
-        std::snprintf(compact, sizeof compact, "step %d  Newton %d  residual %.2g/%.2g  %.1f s", e.step, e.iteration, e.residual, e.tolerance,
-                      e.wall_s);
+                      "step %d  Newton iteration %d (%d in all)  dt %.3g s  step residual %.3g m g (step tolerance %.3g)  wall %.1f s",
+                      e.step, e.iteration, e.total_iterations, e.time_step_s, e.residual, e.tolerance, e.wall_s);
+        std::snprintf(compact, sizeof compact, "step %d  Newton %d  residual %.2g/%.2g  %.1f s", e.step, e.iteration, e.residual,
+                      e.tolerance, e.wall_s);
     } else {
         std::snprintf(line, sizeof line, "step %d  sweep %d (%d in all)  dt %.3g s  wall %.1f s", e.step, e.iteration, e.total_iterations,
                       e.time_step_s, e.wall_s);
@@ -175,11 +174,12 @@ void ProgressDisplay::on_activity(const app::ProgressEvent& e)
     const std::string percent = format("%.0f %%", 100 * e.fraction);
     const std::string time = format("%.1f s", e.wall_s);
     if (tty_) {
-        const std::string line = bar(e.fraction, 20) + " " + e.label + ": " + percent + (e.detail.empty() ? "" : " " + e.detail) + ", " + time;
+        const std::string line =
+            bar(e.fraction, 20) + " " + e.label + ": " + percent + (e.detail.empty() ? "" : " " + e.detail) + ", " + time;
         std::fprintf(out_, "\r%s\033[K", fit_line(line, columns()).c_str());
     } else {
-        std::fprintf(out_, "woven: %s: %s%s, %s\n", e.label.c_str(), percent.c_str(), e.detail.empty() ? "" : (" (" + e.detail + ")").c_str(),
-                     time.c_str());
+        std::fprintf(out_, "woven: %s: %s%s, %s\n", e.label.c_str(), percent.c_str(),
+                     e.detail.empty() ? "" : (" (" + e.detail + ")").c_str(), time.c_str());
     }
     std::fflush(out_);
 }
