@@ -1,8 +1,6 @@
 // The sections of `woven report`'s page (report_sections.hpp).
 #include "woven/render/report_sections.hpp"
 
-#include "woven/render/instrument_plots.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,10 +8,13 @@
 #include <set>
 #include <sstream>
 
+#include "woven/render/instrument_plots.hpp"
+
 namespace woven::render {
 
 namespace {
 
+/// The main number of a command's points, and its label.
 std::pair<std::string, std::string> main_output(const std::string& command)
 {
     if (command == "cusick") return {"drape_coefficient_percent", "drape coefficient, %"};
