@@ -27,9 +27,9 @@
 #include "woven/io/surface_file.hpp"
 #include "woven/io/toml_reader.hpp"
 #include "woven/render/drape_view.hpp"
-#include "woven/render/figure.hpp"
 #include "woven/render/gltf_file.hpp"
 #include "woven/render/image.hpp"
+#include "woven/render/instrument_plots.hpp"
 #include "woven/testers/cusick.hpp"
 
 namespace woven::app {
@@ -38,66 +38,13 @@ namespace {
 
 constexpr int kShadowPixels = 800;  ///< shadow.png is square, this many pixels a side
 
-struct Canvas {
-    render::Image img;
-    void set(int x, int y, std::uint8_t r, std::uint8_t g, std::uint8_t b)
-    {
-        if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-        std::uint8_t* p = &img.rgb[3 * (static_cast<size_t>(y) * img.width + x)];
-        p[0] = r;
-        p[1] = g;
-        p[2] = b;
-    }
-};
-
-/// shadow.png: the shadow in black on white, seen from above with the warp (+y) up and the
-/// weft (+x) to the right; the disc (blue) and the flat specimen (grey) circles, as on the
-/// instrument's paper ring; the warp and weft axes and a red tick at each node.
+/// shadow.png (render::shadow_picture) of the draped surface.
 render::Image shadow_picture(const geometry::TriangleMesh& surface, double specimen_radius, double disc_radius,
-                             const analysis::Nodes& nodes, double dc, int nodes_count)
+                             const analysis::Nodes& nodes, double dc)
 {
-    const double half = 1.08 * specimen_radius;
-    const double px = 2 * half / kShadowPixels;
-    const analysis::ShadowRaster r = analysis::rasterize_shadow(surface, Vec2(-half, -half), px, kShadowPixels, kShadowPixels);
-    Canvas c;
-    c.img.width = c.img.height = kShadowPixels;
-    c.img.rgb.assign(3 * static_cast<size_t>(kShadowPixels) * kShadowPixels, 255);
-    for (int row = 0; row < kShadowPixels; ++row)
-        for (int col = 0; col < kShadowPixels; ++col)
-            if (r.covered[col + static_cast<size_t>(kShadowPixels) * row]) c.set(col, kShadowPixels - 1 - row, 0, 0, 0);
-    const auto to_px = [&](double x, double y) {
-        return std::pair<int, int>{static_cast<int>((x + half) / px), kShadowPixels - 1 - static_cast<int>((y + half) / px)};
-    };
-    const auto circle = [&](double rad, std::uint8_t R, std::uint8_t G, std::uint8_t B) {
-        const int n = static_cast<int>(2 * M_PI * rad / px * 2);
-        for (int k = 0; k < n; ++k) {
-            const double a = 2 * M_PI * k / n;
-            const auto [x, y] = to_px(rad * std::sin(a), rad * std::cos(a));
-            for (int d = 0; d < 2; ++d) c.set(x + d, y, R, G, B);
-        }
-    };
-    circle(specimen_radius, 150, 150, 150);
-    circle(disc_radius, 40, 90, 220);
-    // Axes: warp up (+y), weft right (+x), dotted grey through the centre.
-    for (int k = 0; k < kShadowPixels; k += 4) {
-        c.set(kShadowPixels / 2, k, 170, 170, 170);
-        c.set(k, kShadowPixels / 2, 170, 170, 170);
-    }
-    const Vec3 red(200 / 255.0, 0, 0);
-    render::draw_label(c.img, "warp (0 deg)", kShadowPixels / 2 + 6, 6, 2, red);
-    render::draw_label(c.img, "weft (90 deg)", kShadowPixels - render::label_width("weft (90 deg)") - 6, kShadowPixels / 2 + 8, 2, red);
-    for (int k = 0; k < nodes.count(); ++k) {
-        const double a = nodes.angle_deg[k] * M_PI / 180;
-        for (double t = nodes.radius_m[k]; t < specimen_radius * 1.06; t += 0.5 * px) {
-            const auto [x, y] = to_px(t * std::sin(a), t * std::cos(a));
-            c.set(x, y, 220, 0, 0);
-            c.set(x + 1, y, 220, 0, 0);
-        }
-    }
-    std::ostringstream label;
-    label << "DC " << std::fixed << std::setprecision(1) << dc << " %, " << nodes_count << " nodes";
-    render::draw_label(c.img, label.str(), 6, kShadowPixels - 8 - render::label_height(label.str()));
-    return c.img;
+    const double half = render::shadow_half_width(specimen_radius);
+    const analysis::ShadowRaster r = analysis::rasterize_shadow(surface, Vec2(-half, -half), 2 * half / kShadowPixels, kShadowPixels, kShadowPixels);
+    return render::shadow_picture(r.covered, kShadowPixels, specimen_radius, disc_radius, nodes.angle_deg, nodes.radius_m, dc);
 }
 
 /// drape.png: the draped specimen over the instrument, thread lines showing warp and weft.
@@ -302,7 +249,7 @@ void add_run_files(const CusickRun& c, const testers::CusickResult& r, int k, st
     const std::string suffix = c.request.seeds == 1 ? "" : "-seed" + std::to_string(seed);
     const std::string shadow_name = "shadow" + suffix + ".png";
     require_finite_positions(r.drape.x, "cusick: the drape of seed " + std::to_string(seed));
-    c.set.add(shadow_name, render::encode_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent, nd.count()),
+    c.set.add(shadow_name, render::encode_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent),
                                               join_path(c.out_dir, shadow_name)));
     if (k != 0) return;
     c.set.add("cusick.obj", io::surface_obj(r.surface, r.surface_uv,

@@ -46,6 +46,7 @@
 #include "woven/io/sweep_plan.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/figure.hpp"
+#include "woven/render/instrument_plots.hpp"
 
 namespace woven::app {
 
@@ -299,11 +300,6 @@ render::DrapeScene drape_scene(const Outcome& d, const io::SceneSpec& scene, con
     return scene_view(render::grid_surface(d.x, d.grid.nu, d.grid.nv), scene.obstacles, fabric, &scene.camera);
 }
 
-render::Image picture(const render::DrapeScene& ds, render::View view, int w, int h, const std::string& what)
-{
-    return render_view(ds, view, w, h, what);
-}
-
 std::string fmt(const char* f, double v)
 {
     char buf[64];
@@ -385,7 +381,7 @@ ExperimentResult run_cube(const ExperimentRequest& o)
         for (std::size_t r = 0; r < rows.size(); ++r) {
             figure_word.update(static_cast<double>(f * rows.size() + r) / static_cast<double>(fabrics.size() * rows.size()),
                                o.fabrics[f] + ", " + rows[r].second);
-            render::paste(fig, picture(ds, rows[r].first, pw, ph, o.fabrics[f] + " " + rows[r].second), x0,
+            render::paste(fig, render_view(ds, rows[r].first, pw, ph, o.fabrics[f] + " " + rows[r].second), x0,
                           label_h + ph * static_cast<int>(r));
             if (f == 0) render::draw_label(fig, rows[r].second, 10, label_h + ph * static_cast<int>(r) + ph / 2 - 7, 3);
         }
@@ -550,95 +546,18 @@ MapCell analyse_cell(double r, double c, bool converged, bool has_folds, const s
 render::Image map_picture(const std::vector<MapCell>& cells, const std::vector<double>& ratios, const std::vector<double>& lengths,
                           const std::vector<kes::FabricData>& paper, const std::vector<std::string>& names)
 {
-    const int nr = static_cast<int>(ratios.size()), nc = static_cast<int>(lengths.size());
-    const int cw = 190, ch = 110, left = 120, top = 60, bottom = 150;
-    render::Image img = render::blank(left + cw * nc + 30, top + ch * nr + bottom);
-    const std::map<Structure, Vec3> colour = {{Structure::SINGLE_DIAGONAL, Vec3(0.55, 0.80, 0.55)},
-                                              {Structure::SINGLE_OFFSET, Vec3(0.96, 0.72, 0.45)},
-                                              {Structure::MULTIPLE, Vec3(0.55, 0.68, 0.90)},
-                                              {Structure::NONE, Vec3(0.85, 0.85, 0.85)}};
-    render::draw_label(img, "Corner structure over the cube, 0.10 m below its top", left, 15, 2);
-    // Placement without overprint: a cell's text sits at its top, or at its bottom when a fabric's
-    // mark falls on the top; a mark's name goes right of its dot, else left, below or above,
-    // wherever it covers no cell text and no other mark.
-    struct Box {
-        int x0, y0, x1, y1;
-        bool hits(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
-    };
-    const auto text_box = [](const std::string& t, int x, int y) {  // with a 3 px margin (and the descenders)
-        return Box{x - 3, y - 3, x + render::label_width(t, 2) + 3, y + render::label_height(t, 2) + 6};
-    };
-    struct Mark {
-        double px, py;
-        std::string name;
-        Box dot;
-    };
-    std::vector<Mark> marks;
+    const Structure legend[] = {Structure::SINGLE_DIAGONAL, Structure::SINGLE_OFFSET, Structure::MULTIPLE, Structure::NONE};
+    std::vector<render::MapCellView> views;
+    for (const MapCell& c : cells)
+        views.push_back({static_cast<int>(std::find(legend, legend + 4, c.majority) - legend), c.mean_billows, c.mean_abs_angle, c.converged});
+    std::vector<render::MapMark> marks;
     for (std::size_t f = 0; f < paper.size(); ++f) {
-        // x linear in the bending length between cell centres, y linear in log2(ratio).
         const auto [len, ratio] = map_position(paper[f]);
-        const double fx = (len - lengths.front()) / (lengths.back() - lengths.front());
-        const double fy = (std::log2(ratio) - std::log2(ratios.front())) / (std::log2(ratios.back()) - std::log2(ratios.front()));
-        const double px = left + cw / 2.0 + fx * cw * (nc - 1), py = top + ch / 2.0 + (1 - fy) * ch * (nr - 1);
-        marks.push_back({px, py, names[f], Box{static_cast<int>(px) - 9, static_cast<int>(py) - 9, static_cast<int>(px) + 9, static_cast<int>(py) + 9}});
+        marks.push_back({names[f], len, ratio, render::fabric_color(paper[f].color).array().pow(1 / 2.2).matrix()});
     }
-    std::vector<Box> taken;
-    for (const Mark& m : marks) taken.push_back(m.dot);
-    for (std::size_t k = 0; k < cells.size(); ++k) {
-        const MapCell& c = cells[k];
-        const int ri = static_cast<int>(k) / nc, ci = static_cast<int>(k) % nc;
-        const int x0 = left + ci * cw, y0 = top + (nr - 1 - ri) * ch;  // ratio grows upwards
-        render::fill_rect(img, x0 + 2, y0 + 2, x0 + cw - 2, y0 + ch - 2, colour.at(c.majority));
-        std::string t = fmt("billows %.2f", c.mean_billows) + "\n"
-            + (c.mean_abs_angle > 0 ? fmt("%.0f deg off", c.mean_abs_angle) : std::string("")) + (c.converged ? "" : "\nnot converged");
-        Box b = text_box(t, x0 + 10, y0 + 10);
-        const auto on_a_mark = [&](const Box& box) {
-            return std::any_of(marks.begin(), marks.end(), [&](const Mark& m) { return m.dot.hits(box); });
-        };
-        if (on_a_mark(b)) {
-            const Box low = text_box(t, x0 + 10, y0 + ch - 4 - (b.y1 - b.y0));
-            if (!on_a_mark(low)) b = low;
-        }
-        render::draw_label(img, t, b.x0 + 3, b.y0 + 3, 2);
-        taken.push_back(b);
-    }
-    for (const Mark& m : marks) {
-        const int w = render::label_width(m.name, 2), x = static_cast<int>(m.px), y = static_cast<int>(m.py);
-        const Box candidates[] = {{x + 11, y - 9, x + 14 + w, y + 9}, {x - 14 - w, y - 9, x - 11, y + 9},
-                                  {x - w / 2 - 3, y + 11, x + w / 2 + 3, y + 29}, {x - w / 2 - 3, y - 29, x + w / 2 + 3, y - 11}};
-        Box label = candidates[0];
-        for (const Box& cand : candidates)
-            if (std::none_of(taken.begin(), taken.end(), [&](const Box& t) { return t.hits(cand) && !(t.x0 == m.dot.x0 && t.y0 == m.dot.y0); })) {
-                label = cand;
-                break;
-            }
-        taken.push_back(label);
-        render::fill_rect(img, label.x0, label.y0, label.x1, label.y1, Vec3(1, 1, 1), 0.85);
-        render::fill_disc(img, m.px, m.py, 7, Vec3(0, 0, 0));
-        render::draw_label(img, m.name, label.x0 + 3, label.y0 + 3, 2);
-    }
-    for (std::size_t f = 0; f < paper.size(); ++f) {
-        const Mark& m = marks[f];
-        render::fill_disc(img, m.px, m.py, 4.5, render::fabric_color(paper[f].color).array().pow(1 / 2.2).matrix());
-    }
-    for (int ri = 0; ri < nr; ++ri) render::draw_label(img, fmt("%.3g", ratios[ri]), 20, top + (nr - 1 - ri) * ch + ch / 2 - 7, 2);
-    for (int ci = 0; ci < nc; ++ci)
-        render::draw_label(img, fmt("%.2g cm", lengths[ci]), left + ci * cw + cw / 2 - 25, top + nr * ch + 8, 2);
-    render::draw_label(img, "warp/weft", 10, top - 25, 2);
-    render::draw_label(img, "bending length c = (B/W)^(1/3), B = sqrt(B_warp B_weft)", left, top + nr * ch + 30, 2);
-    int ly = top + nr * ch + 60, lx = left;
-    for (Structure s : {Structure::SINGLE_DIAGONAL, Structure::SINGLE_OFFSET, Structure::MULTIPLE, Structure::NONE}) {
-        render::fill_rect(img, lx, ly, lx + 20, ly + 14, colour.at(s));
-        render::draw_label(img, structure_name(s), lx + 26, ly, 2);
-        lx += 40 + render::label_width(structure_name(s), 2);
-        if (lx > left + cw * nc - 200) {
-            lx = left;
-            ly += 24;
-        }
-    }
-    render::draw_label(img, std::string("woven ") + WOVEN_VERSION + "; W, G of cotton", left, top + nr * ch + bottom - 30, 2,
-                       Vec3(0.3, 0.3, 0.3));
-    return img;
+    std::vector<std::string> structures;
+    for (Structure s : legend) structures.push_back(structure_name(s));
+    return render::corner_map_picture(views, ratios, lengths, marks, structures, std::string("woven ") + WOVEN_VERSION + "; W, G of cotton");
 }
 
 /// corner_map.md: the cells' table and the paper's fabrics on the map.
@@ -822,7 +741,7 @@ ExperimentResult run_figure1(const ExperimentRequest& o)
         const Outcome d = read_outcome(pr.dir, points[k], scene.fabric, true);
         const render::DrapeScene ds = drape_scene(d, scene, fabrics[k]);
         const std::string png = "figure1_" + name + ".png";
-        set.add(png, render::encode_png(picture(ds, render::View::SCENE, 1024, 768, png), join_path(out_dir, png)));
+        set.add(png, render::encode_png(render_view(ds, render::View::SCENE, 1024, 768, png), join_path(out_dir, png)));
         md << "| " << name << " (" << scene.fabric << ", " << d.grid.nu << " x " << d.grid.nv << ") | " << (d.converged ? "yes" : "no")
            << " | " << d.steps << " | " << fmt("%.0f", d.wall_s) << " |\n";
         runs.push_back(outcome_json(d));

@@ -21,7 +21,7 @@
 #include "woven/kes/fit.hpp"
 #include "woven/model/curvature.hpp"
 #include "woven/model/energy_functions.hpp"
-#include "woven/render/plot.hpp"
+#include "woven/render/instrument_plots.hpp"
 
 namespace woven::app {
 
@@ -54,38 +54,12 @@ struct Output {
 
 render::Image fit_plot(const CurveView& c)
 {
-    render::Plot p;
-    p.title = c.title + " (" + c.key + "): KES first-stage curve and fit";
-    p.x_label = c.x_label;
-    p.y_label = c.y_label;
-    render::Series data;
-    data.x = c.data->x;
-    data.y = c.data->y;
-    data.style = render::Series::Style::POINTS;
-    data.color = Vec3(0.2, 0.2, 0.2);
-    data.label = "KES data";
-    render::Series fit;
-    const double x_hi = std::max(c.fit->data_max_x(), c.data->x.empty() ? 0.0 : c.data->x.back());
-    const int n = 400;
-    for (int k = 0; k <= n; ++k) {
-        const double x = x_hi * k / n;
-        fit.x.push_back(x);
-        fit.y.push_back(c.fit->value(x));
-    }
-    fit.color = Vec3(0.12, 0.47, 0.71);
-    fit.label = "fit (Sec. 5.1)";
-    render::Series junctions;
-    const auto& segs = c.fit->segments();
-    for (std::size_t k = 0; k + 1 < segs.size(); ++k) {
-        junctions.x.push_back(segs[k].x_end);
-        junctions.y.push_back(c.fit->value(segs[k].x_end));
-    }
-    junctions.style = render::Series::Style::POINTS;
-    junctions.color = Vec3(0.84, 0.15, 0.16);
-    junctions.label = "segment junctions";
-    p.series = {data, fit};
-    if (!junctions.x.empty()) p.series.push_back(junctions);
-    return render::plot(p);
+    render::CurveFitView v = curve_fit_view(*c.data, *c.fit, 400, true);
+    v.title = c.title + " (" + c.key + "): KES first-stage curve and fit";
+    v.x_label = c.x_label;
+    v.y_label = c.y_label;
+    v.fit_colour = Vec3(0.12, 0.47, 0.71);
+    return render::plot(render::curve_fit_plot(v));
 }
 
 std::string describe_fit(const CurveView& c)
@@ -175,6 +149,24 @@ void trellis_energy_outputs(const model::TrellisEnergy& t, double sigma_cm, std:
 }
 
 }  // namespace
+
+render::CurveFitView curve_fit_view(const kes::Curve& data, const kes::CurveFit& fit, int n, bool junctions)
+{
+    render::CurveFitView v;
+    v.data_x = data.x;
+    v.data_y = data.y;
+    const double x_hi = std::max(fit.data_max_x(), data.x.empty() ? 0.0 : data.x.back());
+    for (int k = 0; k <= n; ++k) {
+        v.fit_x.push_back(x_hi * k / n);
+        v.fit_y.push_back(fit.value(x_hi * k / n));
+    }
+    const auto& segs = fit.segments();
+    for (std::size_t k = 0; junctions && k + 1 < segs.size(); ++k) {
+        v.junction_x.push_back(segs[k].x_end);
+        v.junction_y.push_back(fit.value(segs[k].x_end));
+    }
+    return v;
+}
 
 namespace {
 

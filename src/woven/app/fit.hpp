@@ -14,6 +14,8 @@
 #include "woven/app/progress.hpp"
 #include "woven/common/units.hpp"
 #include "woven/io/scene_file.hpp"
+#include "woven/kes/fit.hpp"
+#include "woven/render/instrument_plots.hpp"
 
 namespace woven::app {
 
@@ -42,5 +44,10 @@ struct FitResult {
 /// Fits, checks every number, then writes the set (report.json last). InputError for a bad
 /// request or fabric (fitting errors name the fabric's file); nothing is written then.
 FitResult fit(const FitRequest& request);
+
+/// The KES curve `data` and `fit` at n + 1 evenly spaced x over [0, the end of the data or the
+/// fit's], with the fit's segment junctions when asked (render::curve_fit_plot's title,
+/// labels and colour left to the caller).
+render::CurveFitView curve_fit_view(const kes::Curve& data, const kes::CurveFit& fit, int n, bool junctions);
 
 }  // namespace woven::app

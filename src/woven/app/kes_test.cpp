@@ -23,6 +23,7 @@
 #include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/render/image.hpp"
+#include "woven/render/instrument_plots.hpp"
 #include "woven/render/plot.hpp"
 #include "woven/sim/thread_count.hpp"
 #include "woven/testers/cantilever.hpp"
@@ -59,31 +60,10 @@ std::string loop_csv(const testers::KesCurveResult& r, const std::string& x_name
 render::Image loop_plot(const std::string& title, const std::string& x_label, const std::string& y_label,
                         const std::vector<testers::KesCurveResult>& results)
 {
-    render::Plot p;
-    p.title = title;
-    p.x_label = x_label;
-    p.y_label = y_label;
-    std::vector<render::Series> inputs, sims;
-    for (const auto& r : results) {
-        if (!r.loop) continue;
-        render::Series in, sim;
-        in.x = r.loop_x;
-        in.y = r.loop_y_input;
-        in.style = render::Series::Style::LINE;
-        in.label = "input loop " + testers::to_string(r.direction);
-        sim.x = r.loop_x;
-        sim.y = r.loop_y;
-        sim.style = render::Series::Style::POINTS;
-        sim.label = "simulated " + testers::to_string(r.direction);
-        // One input loop where the directions share it (shear): drawn and labelled once.
-        if (std::none_of(inputs.begin(), inputs.end(), [&](const render::Series& s) { return s.x == in.x && s.y == in.y; }))
-            inputs.push_back(in);
-        sims.push_back(sim);
-    }
-    if (inputs.size() == 1 && sims.size() > 1) inputs[0].label = "input loop";
-    for (auto& s : inputs) p.series.push_back(std::move(s));
-    for (auto& s : sims) p.series.push_back(std::move(s));
-    return render::plot(p, 900, 620);
+    std::vector<render::KesCurveView> runs;
+    for (const auto& r : results)
+        if (r.loop) runs.push_back({testers::to_string(r.direction), r.loop_x, r.loop_y, r.loop_x, r.loop_y_input});
+    return render::plot(render::kes_loop_plot(title, x_label, y_label, runs, false), 900, 620);
 }
 
 std::string curve_csv(const testers::KesCurveResult& r, const std::string& x_name, const std::string& y_name)
@@ -103,26 +83,12 @@ std::string curve_csv(const testers::KesCurveResult& r, const std::string& x_nam
 render::Image curve_plot(const std::string& title, const std::string& x_label, const std::string& y_label,
                          const std::vector<testers::KesCurveResult>& results, const kes::FabricData& fabric, bool bending)
 {
-    render::Plot p;
-    p.title = title;
-    p.x_label = x_label;
-    p.y_label = y_label;
+    std::vector<render::KesCurveView> runs;
     for (const auto& r : results) {
         const kes::Curve& in = bending ? testers::input_bending(fabric, r.direction) : fabric.shear.curve;
-        render::Series data;
-        data.x = in.x;
-        data.y = in.y;
-        data.style = render::Series::Style::POINTS;
-        data.label = "input " + (bending ? testers::to_string(r.direction) : std::string("curve"));
-        render::Series sim;
-        sim.x = r.x;
-        sim.y = r.y;
-        sim.style = render::Series::Style::LINE_AND_POINTS;
-        sim.label = "simulated " + testers::to_string(r.direction);
-        if (bending || &r == &results.front()) p.series.push_back(data);
-        p.series.push_back(sim);
+        runs.push_back({testers::to_string(r.direction), r.x, r.y, in.x, in.y});
     }
-    return render::plot(p, 900, 620);
+    return render::plot(render::kes_curve_plot(title, x_label, y_label, runs, bending), 900, 620);
 }
 
 /// Shape error of the simulated strip against the elastica: max |z_sim - z_el(s)| over the
