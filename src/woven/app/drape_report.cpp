@@ -7,19 +7,17 @@
 #include <sstream>
 
 #include "woven/common/units.hpp"
+#include "woven/testers/specimen.hpp"
 
 namespace woven::app {
 
 KesValues kes_values(const kes::FabricData& f)
 {
-    namespace ki = kes::instrument;
     KesValues v;
     v.W = f.areal_density_mg_cm2;
-    v.B_warp = f.bending_warp.summary ? f.bending_warp.summary->B
-                                      : kes::data_slope(f.bending_warp.curve, ki::kBendingSlopeFrom, ki::kBendingSlopeTo);
-    v.B_weft = f.bending_weft.summary ? f.bending_weft.summary->B
-                                      : kes::data_slope(f.bending_weft.curve, ki::kBendingSlopeFrom, ki::kBendingSlopeTo);
-    v.G = f.shear.summary ? f.shear.summary->G : kes::data_slope(f.shear.curve, ki::kShearSlopeFrom, ki::kShearSlopeTo);
+    v.B_warp = testers::input_B(f, testers::Direction::WARP);
+    v.B_weft = testers::input_B(f, testers::Direction::WEFT);
+    v.G = testers::input_G(f);
     return v;
 }
 
