@@ -1,4 +1,4 @@
-// libFuzzer target: `woven check`'s glb reader (io::check_glb) on any bytes. Bad input must be
+// libFuzzer target: `woven check`'s glb reader (render::check_glb) on any bytes. Bad input must be
 // a one-line InputError. An accepted file is read again as a viewer reads it, independently of
 // the checker: every primitive's index and attribute data within its buffer (ASan sees a read
 // past it), every index naming a vertex, every position finite: anything else is a finding.
@@ -12,7 +12,7 @@
 
 #include "fuzz_support.hpp"
 #include "woven/common/error.hpp"
-#include "woven/io/gltf_file.hpp"
+#include "woven/render/gltf_file.hpp"
 
 namespace {
 
@@ -44,7 +44,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     using namespace woven;
     const std::string_view bytes(reinterpret_cast<const char*>(data), size);
     try {
-        (void)io::check_glb(bytes, "fuzz.glb");
+        (void)render::check_glb(bytes, "fuzz.glb");
     } catch (const InputError& e) {
         woven::fuzz::check_one_line(e.what());
         return 0;

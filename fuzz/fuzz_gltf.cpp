@@ -1,4 +1,4 @@
-// libFuzzer target: the glTF writer (io::scene_glb) on every mesh the OBJ reader accepts, with a
+// libFuzzer target: the glTF writer (render::scene_glb) on every mesh the OBJ reader accepts, with a
 // per-vertex field, read back by tinygltf's loader. A finding: a crash, a GLB tinygltf cannot
 // read, or one whose vertex or triangle count, bounds or field values are not the mesh's.
 #include <cmath>
@@ -10,14 +10,14 @@
 
 #include "fuzz_support.hpp"
 #include "woven/common/error.hpp"
-#include "woven/io/gltf_file.hpp"
 #include "woven/io/mesh_file.hpp"
+#include "woven/render/gltf_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
     using namespace woven;
     using woven::fuzz::require;
-    io::GltfMesh g;
+    render::GltfMesh g;
     g.name = "fuzz";
     try {
         g.mesh = io::parse_obj_mesh(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.obj");
@@ -28,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     analysis::VertexField f{"height", "m", {}};
     for (const Vec3& p : g.mesh.vertices) f.values.push_back(p.z());
     g.fields.push_back(f);
-    const std::string glb = io::scene_glb({g});
+    const std::string glb = render::scene_glb({g});
 
     tinygltf::Model m;
     tinygltf::TinyGLTF loader;

@@ -8,6 +8,7 @@
 #include "bindings.hpp"
 #include "woven/app/drape.hpp"
 #include "woven/app/progress.hpp"
+#include "woven/geometry/mesh_ops.hpp"
 #include "woven/io/drape_files.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/sha256.hpp"
@@ -36,12 +37,8 @@ py::array_t<double> points_array(const std::vector<Vec3, Eigen::aligned_allocato
 py::array_t<std::int32_t> faces_array(const DrapeResult& r)
 {
     const app::DrapeRun& run = *r.run;
-    std::vector<std::array<int, 3>> faces;
-    if (run.cut_surface) {
-        for (const auto& f : run.cut_surface->mesh.faces) faces.push_back({f[0], f[1], f[2]});
-    } else {
-        faces = io::grid_triangles(r.setup->grid.nu, r.setup->grid.nv);
-    }
+    const std::vector<Eigen::Vector3i> faces = run.cut_surface ? run.cut_surface->mesh.faces
+                                        : geometry::grid_mesh(run.result.x, r.setup->grid.nu, r.setup->grid.nv).faces;
     py::array_t<std::int32_t> a({static_cast<py::ssize_t>(faces.size()), py::ssize_t(3)});
     auto m = a.mutable_unchecked<2>();
     for (std::size_t k = 0; k < faces.size(); ++k)

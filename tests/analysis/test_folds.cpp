@@ -7,6 +7,7 @@
 
 #include "woven/analysis/folds.hpp"
 #include "woven/common/error.hpp"
+#include "woven/geometry/mesh_ops.hpp"
 
 using namespace woven;
 using analysis::Billow;
@@ -253,7 +254,7 @@ TEST(Slice, TiltedSheetGivesOneOpenArcAcrossIt)
     const int nu = 11, nv = 11;
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) x.emplace_back(0.1 * i, 0.1 * j, 0.05 * j);
-    const auto sections = analysis::slice(analysis::grid_mesh(x, nu, nv), 0.2);
+    const auto sections = analysis::slice(geometry::grid_mesh(x, nu, nv), 0.2);
     ASSERT_EQ(sections.size(), 1u);
     EXPECT_FALSE(sections[0].closed);
     const auto& p = sections[0].points;
@@ -266,7 +267,7 @@ TEST(ProjectedArea, SquareTriangleAndOverlapCountedOnce)
     Positions x;
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) x.emplace_back(-0.5 + 0.5 * i, -0.5 + 0.5 * j, 0.1 * i * j);
-    geometry::TriangleMesh sq = analysis::grid_mesh(x, 3, 3);
+    geometry::TriangleMesh sq = geometry::grid_mesh(x, 3, 3);
     EXPECT_NEAR(analysis::projected_area(sq), 1.0, 0.005);  // 1 mm cells on a 4 m perimeter
     geometry::TriangleMesh twice = sq;
     for (const auto& f : sq.faces) twice.faces.emplace_back(f[0], f[2], f[1]);  // reversed copies
@@ -291,7 +292,7 @@ TEST(FoldAnalysis, RejectsBadOptions)
     flat.half.y() = 0;
     EXPECT_THROW(analysis::analyse_folds(mesh, flat), InputError);
     EXPECT_THROW(analysis::analyse_folds(geometry::TriangleMesh{}, box), InputError);
-    EXPECT_THROW(analysis::grid_mesh(Positions(5), 2, 3), InputError);
+    EXPECT_THROW(geometry::grid_mesh(Positions(5), 2, 3), InputError);
 }
 
 // No folds: a plain skirt has no billow at any corner, and the section still closes.

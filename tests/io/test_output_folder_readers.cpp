@@ -21,9 +21,9 @@
 
 #include "woven/common/error.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
-#include "woven/io/gltf_file.hpp"
 #include "woven/io/output_file.hpp"
 #include "woven/io/output_set.hpp"
+#include "woven/render/gltf_file.hpp"
 
 namespace fs = std::filesystem;
 using namespace woven;
@@ -148,11 +148,11 @@ TEST(GlbCheck, RefusesWhatAViewerCannotRead)
     geometry::TriangleMesh mesh;
     mesh.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0.5)};
     mesh.faces = {Eigen::Vector3i(0, 1, 2), Eigen::Vector3i(1, 3, 2)};
-    io::GltfMesh g;
+    render::GltfMesh g;
     g.name = "m";
     g.mesh = mesh;
-    const std::string glb = io::scene_glb({g});
-    ASSERT_EQ(io::check_glb(glb, "x.glb"), 1);
+    const std::string glb = render::scene_glb({g});
+    ASSERT_EQ(render::check_glb(glb, "x.glb"), 1);
     // The binary chunk holds the indices (uint32) first, then the positions (float); each
     // mutation of its bytes must be refused, as a viewer would fail on it.
     const std::size_t json_len = static_cast<unsigned char>(glb[12]) | static_cast<unsigned char>(glb[13]) << 8 |
@@ -172,7 +172,7 @@ TEST(GlbCheck, RefusesWhatAViewerCannotRead)
     ASSERT_NE(three, std::string::npos);
     const std::uint32_t big = 1000;
     std::memcpy(bad.data() + three, &big, 4);
-    EXPECT_THAT(error_of([&] { (void)io::check_glb(bad, "x.glb"); }), HasSubstr("x.glb: glb: mesh 'm' primitive 0: indices: index"));
+    EXPECT_THAT(error_of([&] { (void)render::check_glb(bad, "x.glb"); }), HasSubstr("x.glb: glb: mesh 'm' primitive 0: indices: index"));
     // A non-finite position (the 1.0f of a vertex made NaN).
     bad = glb;
     float one = 1.0f;
@@ -182,22 +182,22 @@ TEST(GlbCheck, RefusesWhatAViewerCannotRead)
     ASSERT_NE(at, std::string::npos);
     const float nan = std::numeric_limits<float>::quiet_NaN();
     std::memcpy(bad.data() + at, &nan, 4);
-    EXPECT_THAT(error_of([&] { (void)io::check_glb(bad, "x.glb"); }), HasSubstr("POSITION: element"));
+    EXPECT_THAT(error_of([&] { (void)render::check_glb(bad, "x.glb"); }), HasSubstr("POSITION: element"));
     // A position outside the accessor's bounds (1.0 made 2.0).
     bad = glb;
     const float two = 2.0f;
     std::memcpy(bad.data() + at, &two, 4);
-    EXPECT_THAT(error_of([&] { (void)io::check_glb(bad, "x.glb"); }), HasSubstr("outside the accessor's min/max"));
+    EXPECT_THAT(error_of([&] { (void)render::check_glb(bad, "x.glb"); }), HasSubstr("outside the accessor's min/max"));
     // An accessor that runs past its buffer view: a count raised in the JSON chunk.
     bad = glb;
     const std::size_t c = bad.find("\"count\":4");
     ASSERT_NE(c, std::string::npos);
     bad[c + 8] = '9';
-    EXPECT_THAT(error_of([&] { (void)io::check_glb(bad, "x.glb"); }), HasSubstr("x.glb: glb: mesh 'm' primitive 0:"));
+    EXPECT_THAT(error_of([&] { (void)render::check_glb(bad, "x.glb"); }), HasSubstr("x.glb: glb: mesh 'm' primitive 0:"));
     // JSON that does not parse: tinygltf's message spans lines; the error stays one line (fuzz_glb_check).
     bad = glb;
     bad[bad.find("componentType") + 12] = '[';
-    const std::string e = error_of([&] { (void)io::check_glb(bad, "x.glb"); });
+    const std::string e = error_of([&] { (void)render::check_glb(bad, "x.glb"); });
     EXPECT_THAT(e, HasSubstr("x.glb: glb: does not load as glTF 2.0 binary"));
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }

@@ -212,21 +212,6 @@ std::vector<Billow> SectionFolds::at_corner(int c) const
     return out;
 }
 
-geometry::TriangleMesh grid_mesh(const Positions& x, int nu, int nv)
-{
-    if (nu < 2 || nv < 2 || x.size() != static_cast<std::size_t>(nu) * nv)
-        throw InputError("fold analysis", "cloth", "nu * nv positions with nu, nv >= 2");
-    geometry::TriangleMesh m;
-    m.vertices.assign(x.begin(), x.end());
-    for (int j = 0; j + 1 < nv; ++j)
-        for (int i = 0; i + 1 < nu; ++i) {
-            const int a = i + nu * j, b = a + 1, c = a + 1 + nu, d = a + nu;
-            m.faces.emplace_back(a, b, c);
-            m.faces.emplace_back(a, c, d);
-        }
-    return m;
-}
-
 double projected_area(const geometry::TriangleMesh& mesh, double cell_m)
 {
     Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;

@@ -138,10 +138,6 @@ CornerStructure corner_structure(const std::vector<Billow>& billows);
 /// diagonal; 0 for none, for a billow on the diagonal and for two folds placed symmetrically.
 double corner_asymmetry_deg(const std::vector<Billow>& billows);
 
-/// The cloth grid (nu * nv positions, index i + nu * j) as triangles, two per cell:
-/// (i, j) (i+1, j) (i+1, j+1) and (i, j) (i+1, j+1) (i, j+1), as the OBJ output has them.
-geometry::TriangleMesh grid_mesh(const Positions& x, int nu, int nv);
-
 /// Area of the union of the mesh's faces projected on the xy plane (m^2), by counting the
 /// centres of `cell_m` square cells covered by some face.
 double projected_area(const geometry::TriangleMesh& mesh, double cell_m = 1e-3);

@@ -16,7 +16,6 @@
 #include "woven/app/run_checks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
-#include "woven/io/gltf_file.hpp"
 #include "woven/io/input_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/output_file.hpp"
@@ -24,6 +23,7 @@
 #include "woven/io/sha256.hpp"
 #include "woven/io/toml_reader.hpp"
 #include "woven/kes/fit.hpp"
+#include "woven/render/gltf_file.hpp"
 
 namespace woven::app {
 
@@ -130,7 +130,7 @@ void check_listed(const fs::path& dir, const std::string& manifest, const std::s
     }
     try {
         if (name.ends_with(".obj")) (void)io::parse_obj_mesh(*data, shown);
-        if (name.ends_with(".glb")) (void)io::check_glb(*data, shown);
+        if (name.ends_with(".glb")) (void)render::check_glb(*data, shown);
     } catch (const InputError& e) {
         f.problem(e.what());
     }

@@ -28,6 +28,7 @@
 #include "woven/io/toml_reader.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/figure.hpp"
+#include "woven/render/gltf_file.hpp"
 #include "woven/render/image.hpp"
 #include "woven/testers/cusick.hpp"
 
@@ -297,7 +298,8 @@ void add_run_files(const CusickRun& c, const testers::CusickResult& r, int k, st
     if (k != 0) return;
     c.set.add("cusick.obj", io::surface_obj(r.surface, r.surface_uv,
                                             "cusick: draped specimen, fabric " + c.name + ", spacing " + std::to_string(r.spacing_m) + " m"));
-    c.set.add("cusick.glb", io::draped_surface_glb(r.surface, r.surface_uv, c.setup.obstacles, c.co.solver.contact_distance, c.fabric.color));
+    c.set.add("cusick.glb", render::display_glb(render::surface_gltf_mesh(r.surface, r.surface_uv), c.setup.obstacles, c.co.solver.contact_distance,
+                                                     c.fabric.color, "the draped surface", "the .obj file holds it as solved"));
     if (c.request.render && !interrupt_requested())
         c.set.add("drape.png", render::encode_png(drape_picture(r, c.setup, c.fabric), join_path(c.out_dir, "drape.png")));
 }

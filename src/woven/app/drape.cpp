@@ -9,11 +9,13 @@
 #include "woven/app/progress.hpp"
 #include "woven/app/scene_view.hpp"
 #include "woven/common/error.hpp"
+#include "woven/geometry/mesh_ops.hpp"
 #include "woven/io/drape_files.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/start_file.hpp"
+#include "woven/render/gltf_file.hpp"
 
 namespace woven::app {
 
@@ -286,7 +288,7 @@ DrapeRun finish_drape(const DrapeSetup& d, sim::Result result, bool interrupted)
     }
     if (const auto box = analysis::box_footprint(d.scene.obstacles))
         run.folds = analysis::analyse_folds(
-            run.cut_surface ? run.cut_surface->mesh : analysis::grid_mesh(run.result.x, d.grid.nu, d.grid.nv), *box);
+            run.cut_surface ? run.cut_surface->mesh : geometry::grid_mesh(run.result.x, d.grid.nu, d.grid.nv), *box);
     return run;
 }
 
@@ -333,10 +335,14 @@ nlohmann::json write_drape_outputs(const DrapeRun& run, const std::string& out_d
     // (io::OutputSet). Nothing non-finite is written; an interrupt skips the picture.
     io::OutputSet set(out_dir, kDrapeFiles);
     const auto& cut_surface = run.cut_surface;
-    io::add_drape_meshes(set, {&run.result.x, &*d.model, &d.scene.obstacles, d.scene.solver.contact_distance,
-                               d.scene.solver.friction, options.ply_ascii ? io::PlyFormat::ASCII : io::PlyFormat::BINARY,
-                               d.cut ? &cut_surface->mesh : nullptr, d.cut ? &cut_surface->uv : nullptr,
-                               "drape of a cloth cut to its outline, scene " + d.scene.name, d.fabric.color});
+    const auto fields = io::add_drape_meshes(
+        set, {&run.result.x, &*d.model, &d.scene.obstacles, d.scene.solver.contact_distance, d.scene.solver.friction,
+              options.ply_ascii ? io::PlyFormat::ASCII : io::PlyFormat::BINARY, d.cut ? &cut_surface->mesh : nullptr,
+              d.cut ? &cut_surface->uv : nullptr, "drape of a cloth cut to its outline, scene " + d.scene.name});
+    set.add("drape.glb", render::display_glb(d.cut ? render::surface_gltf_mesh(cut_surface->mesh, cut_surface->uv)
+                                                   : render::cloth_gltf_mesh(run.result.x, d.grid.nu, d.grid.nv, fields),
+                                             d.scene.obstacles, d.scene.solver.contact_distance, d.fabric.color,
+                                             "the cloth's vertices", "drape.obj and drape.ply hold the particles as solved"));
     if (!options.no_render && !run.interrupted && !interrupt_requested()) {
         set.add("drape.png", render::encode_png(render_drape(run.result.x, d.grid, d.scene, d.fabric, options.width,
                                                              options.height, cut_surface ? &*cut_surface : nullptr),

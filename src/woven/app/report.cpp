@@ -25,12 +25,12 @@
 #include "woven/app/sweep.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
-#include "woven/io/gltf_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/output_file.hpp"
 #include "woven/io/sha256.hpp"
 #include "woven/kes/curve.hpp"
 #include "woven/kes/fit.hpp"
+#include "woven/render/gltf_file.hpp"
 #include "woven/render/html_page.hpp"
 
 namespace woven::app {
@@ -121,11 +121,11 @@ std::optional<render::ViewModel> view_model(const PointView& p)
         render::ViewModel v;
         v.name = p.name;
         if (std::string(name).ends_with(".obj")) {
-            io::GltfMesh cloth;
+            render::GltfMesh cloth;
             cloth.name = "cloth";
             cloth.mesh = io::load_obj_mesh((p.dir / name).string());
             cloth.double_sided = true;
-            v.glb = io::scene_glb({cloth});
+            v.glb = render::scene_glb({cloth});
         } else {
             v.glb = read_output_file((p.dir / name).string()).value_or("");
         }

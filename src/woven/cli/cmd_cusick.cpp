@@ -24,7 +24,7 @@ namespace {
 std::vector<int> parse_modes(const std::string& text)
 {
     std::vector<int> modes;
-    const auto bad = [&] { return InputError(kCommandLine, "--modes", "expected a range such as 2-12 or a list such as 3,5,7 of fold counts in [2, 64], got '" + io::printable(text) + "'"); };
+    const auto bad = [&] { return InputError(kCommandLine, "--modes", "expected a range such as 2-12 or a list such as 3,5,7 of fold counts in [2, 64], got '" + printable(text) + "'"); };
     const auto number = [&](const std::string& t) {
         if (t.empty() || t.size() > 2 || t.find_first_not_of("0123456789") != std::string::npos) throw bad();
         const int v = std::stoi(t);

@@ -1,7 +1,9 @@
 #pragma once
 // Project exceptions. Only the cli catches them: InputError -> exit 2, RuntimeError -> exit 1.
+#include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace woven {
 
@@ -11,6 +13,25 @@ inline std::string without_nul(std::string s)
 {
     for (std::size_t k = s.find('\0'); k != std::string::npos; k = s.find('\0', k + 4)) s.replace(k, 1, "\\x00");
     return s;
+}
+
+/// Text from an input made safe for a one-line message: control characters (newlines included)
+/// become "\xNN", and it is cut at `max_length` characters ("...").
+inline std::string printable(std::string_view text, std::size_t max_length = 80)
+{
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (out.size() >= max_length) return out + "...";
+        const auto c = static_cast<unsigned char>(text[i]);
+        if (c < 0x20 || c == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\x%02x", c);
+            out += buf;
+        } else {
+            out += static_cast<char>(c);
+        }
+    }
+    return out;
 }
 
 /// Bad input: a malformed or inconsistent file, a value out of range, a bad option.

@@ -8,7 +8,42 @@
 
 #include <Eigen/Geometry>
 
+#include "woven/common/error.hpp"
+
 namespace woven::geometry {
+
+TriangleMesh grid_mesh(const Positions& x, int nu, int nv)
+{
+    if (nu < 2 || nv < 2 || x.size() != static_cast<std::size_t>(nu) * nv)
+        throw InputError("cloth grid", std::to_string(x.size()) + " positions",
+                         "expected nu * nv = " + std::to_string(static_cast<long long>(nu) * nv) + " with nu, nv >= 2 (nu " +
+                             std::to_string(nu) + ", nv " + std::to_string(nv) + ")");
+    TriangleMesh m;
+    m.vertices.assign(x.begin(), x.end());
+    m.faces.reserve(2 * static_cast<std::size_t>(nu - 1) * (nv - 1));
+    for (int j = 0; j + 1 < nv; ++j)
+        for (int i = 0; i + 1 < nu; ++i) {
+            const int a = i + nu * j, b = a + 1, c = a + 1 + nu, d = a + nu;
+            m.faces.emplace_back(a, b, c);
+            m.faces.emplace_back(a, c, d);
+        }
+    return m;
+}
+
+Positions vertex_normals(const TriangleMesh& mesh)
+{
+    Positions n(mesh.vertices.size(), Vec3::Zero());
+    for (const auto& f : mesh.faces) {
+        // The cross product's length is twice the area: area weighting for free.
+        const Vec3 fn = (mesh.vertices[f[1]] - mesh.vertices[f[0]]).cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+        for (int k = 0; k < 3; ++k) n[f[k]] += fn;
+    }
+    for (auto& v : n) {
+        const double len = v.norm();
+        v = (len > 0 && std::isfinite(len)) ? Vec3(v / len) : Vec3(0, 0, 1);
+    }
+    return n;
+}
 
 TriangleMesh transform(const TriangleMesh& mesh, double scale, const Vec3& rotation_deg, const Vec3& translate)
 {

@@ -1,9 +1,19 @@
 #pragma once
-// Operations on triangle meshes: placement in the scene and topology checks.
+// Operations on triangle meshes: the cloth grid as a mesh, normals, placement in the scene and
+// topology checks.
 #include "woven/common/types.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
 
 namespace woven::geometry {
+
+/// The cloth grid (nu * nv positions, index i + nu * j, m) as triangles, two per cell:
+/// (i, j) (i+1, j) (i+1, j+1) and (i, j) (i+1, j+1) (i, j+1). InputError when the sizes do not
+/// match or nu or nv < 2.
+TriangleMesh grid_mesh(const Positions& x, int nu, int nv);
+
+/// Unit normals per vertex: the sum of the normals of the faces around it weighted by their
+/// areas; (0, 0, 1) for a vertex no face with an area touches.
+Positions vertex_normals(const TriangleMesh& mesh);
 
 /// The mesh scaled by `scale` about the origin, then rotated by rotation_deg (degrees) about x,
 /// then about y, then about z (fixed axes), then translated by `translate` (m).

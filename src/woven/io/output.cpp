@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "woven/common/error.hpp"
+#include "woven/geometry/mesh_ops.hpp"
 #include "woven/io/output_set.hpp"
 
 namespace woven::io {
@@ -47,19 +48,6 @@ void check_grid(const Positions& x, int nu, int nv, const char* what)
 
 }  // namespace
 
-std::vector<std::array<int, 3>> grid_triangles(int nu, int nv)
-{
-    std::vector<std::array<int, 3>> t;
-    t.reserve(2 * static_cast<size_t>(nu - 1) * (nv - 1));
-    for (int j = 0; j + 1 < nv; ++j)
-        for (int i = 0; i + 1 < nu; ++i) {
-            const int a = i + nu * j, b = a + 1, c = a + 1 + nu, d = a + nu;
-            t.push_back({a, b, c});
-            t.push_back({a, c, d});
-        }
-    return t;
-}
-
 void write_file_atomic(const std::string& path, std::string_view contents)
 {
     // A unique temporary name in the same folder (io::OutputSet's pattern, so that one left by a
@@ -86,26 +74,11 @@ void write_file_atomic(const std::string& path, std::string_view contents)
     }
 }
 
-Positions cloth_normals(const Positions& x, int nu, int nv)
-{
-    check_grid(x, nu, nv, "cloth normals");
-    Positions n(x.size(), Vec3::Zero());
-    for (const auto& t : grid_triangles(nu, nv)) {
-        // The cross product's length is twice the area: area weighting for free.
-        const Vec3 fn = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
-        for (int k : t) n[k] += fn;
-    }
-    for (auto& v : n) {
-        const double len = v.norm();
-        v = (len > 0 && std::isfinite(len)) ? Vec3(v / len) : Vec3(0, 0, 1);
-    }
-    return n;
-}
-
 std::string cloth_obj(const Positions& x, int nu, int nv)
 {
     check_grid(x, nu, nv, "cloth OBJ");
-    const Positions n = cloth_normals(x, nu, nv);
+    const geometry::TriangleMesh mesh = geometry::grid_mesh(x, nu, nv);
+    const Positions n = geometry::vertex_normals(mesh);
     std::string s;
     s.reserve(x.size() * 120);
     s += "# woven cloth, units: m\n";
@@ -117,7 +90,7 @@ std::string cloth_obj(const Positions& x, int nu, int nv)
         for (int i = 0; i < nu; ++i)
             s += strf("vt %.9g %.9g\n", double(i) / (nu - 1), double(j) / (nv - 1));
     for (const auto& v : n) s += strf("vn %.6f %.6f %.6f\n", v.x(), v.y(), v.z());
-    for (const auto& t : grid_triangles(nu, nv)) {
+    for (const auto& t : mesh.faces) {
         const int a = t[0] + 1, b = t[1] + 1, c = t[2] + 1;
         s += strf("f %d/%d/%d %d/%d/%d %d/%d/%d\n", a, a, a, b, b, b, c, c, c);
     }
@@ -131,8 +104,9 @@ std::string cloth_ply(const Positions& x, int nu, int nv, const std::vector<anal
         if (f.values.size() != x.size())
             throw InputError("cloth PLY", f.name, strf("%zu values for %zu particles", f.values.size(), x.size()));
     const bool binary = format == PlyFormat::BINARY;
-    const Positions n = cloth_normals(x, nu, nv);
-    const auto tris = grid_triangles(nu, nv);
+    const geometry::TriangleMesh mesh = geometry::grid_mesh(x, nu, nv);
+    const Positions n = geometry::vertex_normals(mesh);
+    const auto& tris = mesh.faces;
     std::string s;
     s.reserve(x.size() * (binary ? 40 + 4 * fields.size() : 120 + 16 * fields.size()));
     s += binary ? "ply\nformat binary_little_endian 1.0\n" : "ply\nformat ascii 1.0\n";
@@ -169,7 +143,7 @@ std::string cloth_ply(const Positions& x, int nu, int nv, const std::vector<anal
     for (const auto& t : tris) {
         if (binary) {
             put(static_cast<unsigned char>(3));
-            for (int c : t) put(static_cast<std::int32_t>(c));
+            for (int c = 0; c < 3; ++c) put(static_cast<std::int32_t>(t[c]));
         } else {
             s += strf("3 %d %d %d\n", t[0], t[1], t[2]);
         }

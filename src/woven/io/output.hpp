@@ -21,17 +21,9 @@ namespace woven::io {
 /// thrown; `path` is never left holding a partial file.
 void write_file_atomic(const std::string& path, std::string_view contents);
 
-/// The two triangles of every grid cell, in the order of the header comment (0-based).
-std::vector<std::array<int, 3>> grid_triangles(int nu, int nv);
-
-/// Per-vertex unit normals of the cloth grid: the area-weighted sum of the normals of the
-/// triangles (see the header comment) around each particle. Degenerate neighbourhoods get +z.
-/// @param x  nu * nv positions (m), index i + nu * j
-Positions cloth_normals(const Positions& x, int nu, int nv);
-
 /// The cloth grid as Wavefront OBJ text: a header comment (units m, grid nu x nv), `v` lines
 /// (positions, m), `vt` lines (u = i / (nu - 1) along the weft, v = j / (nv - 1) along the warp),
-/// `vn` lines (cloth_normals) and two `f v/vt/vn` triangles per grid cell (1-based indices; the
+/// `vn` lines (geometry::vertex_normals) and two `f v/vt/vn` triangles per grid cell (geometry::grid_mesh's) (1-based indices; the
 /// three arrays share particle order). Throws InputError if x.size() != nu * nv or nu, nv < 2.
 std::string cloth_obj(const Positions& x, int nu, int nv);
 

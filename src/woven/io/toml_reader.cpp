@@ -40,23 +40,6 @@ std::string join(const std::string& prefix, std::string_view key)
 
 }  // namespace
 
-std::string printable(std::string_view text, std::size_t max_length)
-{
-    std::string out;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        if (out.size() >= max_length) return out + "...";
-        const auto c = static_cast<unsigned char>(text[i]);
-        if (c < 0x20 || c == 0x7f) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\x%02x", c);
-            out += buf;
-        } else {
-            out += static_cast<char>(c);
-        }
-    }
-    return out;
-}
-
 std::string num_str(double v)
 {
     // The shortest %g form that reads back as v ("0.0001", "9.2e+18", "1e+300").

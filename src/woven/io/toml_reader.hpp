@@ -19,6 +19,7 @@
 #include <toml++/toml.h>
 
 #include "woven/common/choice.hpp"
+#include "woven/common/error.hpp"
 
 namespace woven::io {
 
@@ -47,10 +48,6 @@ struct Range {
     /// "(0, 100] m"
     std::string str() const;
 };
-
-/// Text from an input file made safe for a one-line message: control characters (newlines
-/// included) become "\xNN", and it is cut at `max_length` characters ("...").
-std::string printable(std::string_view text, std::size_t max_length = 80);
 
 /// Shortest round-trip text of a number ("1e+300", "0.5").
 std::string num_str(double v);

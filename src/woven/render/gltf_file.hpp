@@ -17,7 +17,7 @@
 #include "woven/geometry/obstacle.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
 
-namespace woven::io {
+namespace woven::render {
 
 /// One mesh of the scene, in woven's axes (m).
 struct GltfMesh {
@@ -47,11 +47,23 @@ std::string scene_glb(const std::vector<GltfMesh>& meshes);
 /// number of meshes.
 int check_glb(std::string_view data, const std::string& source);
 
-/// The cloth grid (nu x nv, triangles and (u, v) as io::cloth_obj's) with cloth_normals, and
+/// The cloth grid (nu x nv, triangles and (u, v) as io::cloth_obj's) with its vertex normals, and
 /// `fields` (one value per particle each).
 GltfMesh cloth_gltf_mesh(const Positions& x, int nu, int nv, const std::vector<analysis::VertexField>& fields = {});
 
 /// The obstacles, tessellated, named "obstacle <k> <kind>" (k from 0 in the set's order).
 std::vector<GltfMesh> obstacle_gltf_meshes(const geometry::ObstacleSet& obstacles);
 
-}  // namespace woven::io
+/// A surface that is not the particle grid (a cloth cut to its outline, the Cusick specimen):
+/// named "cloth", with texture coordinates, double-sided.
+GltfMesh surface_gltf_mesh(const geometry::TriangleMesh& surface, const std::vector<Vec2>& uv);
+
+/// The GLB a viewer is given: `cloth` lifted off the obstacles by the contact distance
+/// (geometry/display_surface.hpp) so that no obstacle's edge shows through its flat triangles,
+/// in the fabric's colour (sRGB in 0..1) when one is given, then the obstacles. The cloth node's
+/// "holds" says so: `lifted` names what was lifted ("the cloth's vertices"), `solved_in` which
+/// files hold it as solved.
+std::string display_glb(GltfMesh cloth, const geometry::ObstacleSet& obstacles, double contact_distance,
+                        const std::optional<std::array<double, 3>>& color, const std::string& lifted, const std::string& solved_in);
+
+}  // namespace woven::render

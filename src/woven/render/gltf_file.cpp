@@ -1,8 +1,9 @@
-#include "woven/io/gltf_file.hpp"
+#include "woven/render/gltf_file.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -10,10 +11,10 @@
 #include <tiny_gltf.h>
 
 #include "woven/common/error.hpp"
-#include "woven/io/output.hpp"
-#include "woven/io/toml_reader.hpp"
+#include "woven/geometry/display_surface.hpp"
+#include "woven/geometry/mesh_ops.hpp"
 
-namespace woven::io {
+namespace woven::render {
 
 namespace {
 
@@ -317,9 +318,8 @@ GltfMesh cloth_gltf_mesh(const Positions& x, int nu, int nv, const std::vector<a
 {
     GltfMesh g;
     g.name = "cloth";
-    g.normals = cloth_normals(x, nu, nv);  // checks the grid
-    g.mesh.vertices.assign(x.begin(), x.end());
-    for (const auto& t : grid_triangles(nu, nv)) g.mesh.faces.emplace_back(t[0], t[1], t[2]);
+    g.mesh = geometry::grid_mesh(x, nu, nv);
+    g.normals = geometry::vertex_normals(g.mesh);
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) g.uv.emplace_back(double(i) / (nu - 1), double(j) / (nv - 1));
     g.fields = fields;
@@ -340,4 +340,32 @@ std::vector<GltfMesh> obstacle_gltf_meshes(const geometry::ObstacleSet& obstacle
     return out;
 }
 
-}  // namespace woven::io
+GltfMesh surface_gltf_mesh(const geometry::TriangleMesh& surface, const std::vector<Vec2>& uv)
+{
+    GltfMesh g;
+    g.name = "cloth";
+    g.mesh = surface;
+    g.uv = uv;
+    g.double_sided = true;
+    return g;
+}
+
+std::string display_glb(GltfMesh cloth, const geometry::ObstacleSet& obstacles, double contact_distance,
+                        const std::optional<std::array<double, 3>>& color, const std::string& lifted, const std::string& solved_in)
+{
+    // sRGB (0..1) to linear RGB, glTF's baseColorFactor (IEC 61966-2-1).
+    const auto linear = [](double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); };
+    if (color)
+        for (int c = 0; c < 3; ++c) cloth.color[c] = linear((*color)[c]);
+    const geometry::LiftedSurface shown = geometry::lift_off_obstacles(cloth.mesh, obstacles, contact_distance);
+    cloth.mesh = shown.mesh;
+    char lift[160];
+    std::snprintf(lift, sizeof lift, " (at most %.3g m) so that its triangles clear them by the contact distance %.3g m; ", shown.max_lift,
+                  contact_distance);
+    cloth.holds = "display surface: " + lifted + " lifted off the obstacles" + lift + solved_in;
+    std::vector<GltfMesh> meshes{std::move(cloth)};
+    for (auto& m : obstacle_gltf_meshes(obstacles)) meshes.push_back(std::move(m));
+    return scene_glb(meshes);
+}
+
+}  // namespace woven::render

@@ -1,5 +1,4 @@
-// drape.glb (io/gltf_file.hpp) read back by tinygltf's own loader, and the binary and ASCII PLY
-// with per-vertex fields (io/output.hpp).
+// drape.glb (render/gltf_file.hpp) read back by tinygltf's own loader.
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -12,8 +11,8 @@
 
 #include "woven/common/error.hpp"
 #include "woven/geometry/primitives.hpp"
-#include "woven/io/gltf_file.hpp"
-#include "woven/io/output.hpp"
+#include "woven/geometry/mesh_ops.hpp"
+#include "woven/render/gltf_file.hpp"
 #include "woven/model/grid.hpp"
 
 using namespace woven;
@@ -74,9 +73,9 @@ TEST(Gltf, ClothAndObstaclesRoundTripThroughTinygltfsLoader)
     geometry::ObstacleSet obstacles;
     obstacles.add(std::make_unique<geometry::Sphere>(Vec3(0.2, -0.1, 0.2), 0.1));
     obstacles.add(std::make_unique<geometry::Plane>(Vec3(0, 0, 0), Vec3(0, 0, 1), 2.0));
-    std::vector<io::GltfMesh> meshes{io::cloth_gltf_mesh(x, kNu, kNv, fields())};
-    for (auto& o : io::obstacle_gltf_meshes(obstacles)) meshes.push_back(std::move(o));
-    const std::string glb = io::scene_glb(meshes);
+    std::vector<render::GltfMesh> meshes{render::cloth_gltf_mesh(x, kNu, kNv, fields())};
+    for (auto& o : render::obstacle_gltf_meshes(obstacles)) meshes.push_back(std::move(o));
+    const std::string glb = render::scene_glb(meshes);
     ASSERT_EQ(glb.substr(0, 4), "glTF");
     const tinygltf::Model m = load(glb);
     EXPECT_EQ(m.asset.version, "2.0");
@@ -106,10 +105,10 @@ TEST(Gltf, ClothAndObstaclesRoundTripThroughTinygltfsLoader)
     EXPECT_NEAR(pos_acc.maxValues[1], 0.53, 1e-7);
     EXPECT_NEAR(pos_acc.minValues[2], 0.0, 1e-7);
     EXPECT_NEAR(pos_acc.maxValues[2], 0.2, 1e-7);
-    // Normals: cloth_normals's, turned as the positions (the far corner's, away from the lifted
+    // Normals: the grid's vertex normals, turned as the positions (the far corner's, away from the lifted
     // particle, is +z: glTF's +y).
     const auto nrm = floats(m, cloth.attributes.at("NORMAL"));
-    const Positions n = io::cloth_normals(x, kNu, kNv);
+    const Positions n = geometry::vertex_normals(geometry::grid_mesh(x, kNu, kNv));
     for (int p = 0; p < kNu * kNv; ++p) {
         EXPECT_FLOAT_EQ(nrm[3 * p + 0], static_cast<float>(n[p].x()));
         EXPECT_FLOAT_EQ(nrm[3 * p + 1], static_cast<float>(n[p].z()));
@@ -142,64 +141,24 @@ TEST(Gltf, MismatchedArraysAreRefused)
 {
     auto bad = fields();
     bad[0].values.pop_back();
-    EXPECT_THROW(io::scene_glb({io::cloth_gltf_mesh(grid(), kNu, kNv, bad)}), InputError);
-    io::GltfMesh m = io::cloth_gltf_mesh(grid(), kNu, kNv);
+    EXPECT_THROW(render::scene_glb({render::cloth_gltf_mesh(grid(), kNu, kNv, bad)}), InputError);
+    render::GltfMesh m = render::cloth_gltf_mesh(grid(), kNu, kNv);
     m.mesh.faces[0][1] = kNu * kNv;  // past the vertices
-    EXPECT_THROW(io::scene_glb({m}), InputError);
-    EXPECT_THROW(io::cloth_gltf_mesh(grid(), kNu + 1, kNv), InputError);
-    EXPECT_EQ(io::gltf_attribute("trellis_angle"), "_TRELLIS_ANGLE");
+    EXPECT_THROW(render::scene_glb({m}), InputError);
+    EXPECT_THROW(render::cloth_gltf_mesh(grid(), kNu + 1, kNv), InputError);
+    EXPECT_EQ(render::gltf_attribute("trellis_angle"), "_TRELLIS_ANGLE");
 }
 
 TEST(Gltf, CheckGlbReadsWhatTheWriterWritesAndRefusesTheRest)
 {
-    const std::string glb = io::scene_glb({io::cloth_gltf_mesh(grid(), kNu, kNv, fields())});
-    EXPECT_EQ(io::check_glb(glb, "d/drape.glb"), 1);
+    const std::string glb = render::scene_glb({render::cloth_gltf_mesh(grid(), kNu, kNv, fields())});
+    EXPECT_EQ(render::check_glb(glb, "d/drape.glb"), 1);
     for (const std::string& bad : {glb.substr(0, glb.size() / 2), std::string("glTF"), std::string()}) {
         try {
-            io::check_glb(bad, "d/drape.glb");
+            render::check_glb(bad, "d/drape.glb");
             ADD_FAILURE() << "accepted " << bad.size() << " bytes";
         } catch (const InputError& e) {
             EXPECT_EQ(std::string(e.what()).rfind("d/drape.glb: glb: does not load as glTF 2.0 binary", 0), 0u) << e.what();
         }
     }
-}
-
-TEST(ClothPlyFields, BinaryAndAsciiHoldTheSameValues)
-{
-    const Positions x = grid();
-    const auto f = fields();
-    const std::string bin = io::cloth_ply(x, kNu, kNv, f);
-    const std::string asc = io::cloth_ply(x, kNu, kNv, f, io::PlyFormat::ASCII);
-    EXPECT_EQ(bin.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
-    EXPECT_EQ(asc.rfind("ply\nformat ascii 1.0\n", 0), 0u);
-    for (const std::string* s : {&bin, &asc}) {
-        EXPECT_THAT(*s, HasSubstr("property float strain_warp\nproperty float contact\n"));
-        EXPECT_THAT(*s, HasSubstr("comment strain_warp unit: 1\n"));
-        EXPECT_THAT(*s, HasSubstr("property double x\n"));
-    }
-    // Binary: header, then per vertex 3 doubles + 5 floats + 2 field floats, then per face
-    // a uchar 3 and three int32.
-    const std::size_t body = bin.find("end_header\n") + 11;
-    const std::size_t vertex = 3 * 8 + 5 * 4 + 2 * 4, faces = 2 * (kNu - 1) * (kNv - 1);
-    ASSERT_EQ(bin.size(), body + kNu * kNv * vertex + faces * 13);
-    for (int p = 0; p < kNu * kNv; ++p) {
-        double xyz[3];
-        float rest[7];
-        std::memcpy(xyz, bin.data() + body + p * vertex, sizeof xyz);
-        std::memcpy(rest, bin.data() + body + p * vertex + sizeof xyz, sizeof rest);
-        EXPECT_EQ(xyz[2], x[p].z());
-        EXPECT_FLOAT_EQ(rest[5], static_cast<float>(f[0].values[p]));
-        EXPECT_FLOAT_EQ(rest[6], static_cast<float>(f[1].values[p]));
-    }
-    // ASCII: the vertex lines end with the two fields.
-    std::istringstream in(asc.substr(asc.find("end_header\n") + 11));
-    for (int p = 0; p < kNu * kNv; ++p) {
-        double v[10];
-        for (double& c : v) in >> c;
-        EXPECT_NEAR(v[8], f[0].values[p], 1e-9);
-        EXPECT_EQ(v[9], f[1].values[p]);
-    }
-    auto bad = f;
-    bad[1].values.push_back(0);
-    EXPECT_THROW(io::cloth_ply(x, kNu, kNv, bad), InputError);
 }
