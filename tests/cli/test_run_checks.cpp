@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/app/progress.hpp"
-#include "woven/app/resources.hpp"
+#include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/common/error.hpp"
 
@@ -37,11 +37,11 @@ TEST(RunChecks, NoReportWithANonFiniteNumber)
 TEST(RunChecks, ThreadsNeverExceedTheCoresAvailable)
 {
     // the request is capped at the cores of the affinity mask (and cgroup quota).
-    const int cores = app::available_cores();
+    const int cores = sim::available_cores();
     EXPECT_GE(cores, 1);
-    EXPECT_EQ(app::threads_to_use(0), cores);
-    EXPECT_EQ(app::threads_to_use(1), 1);
-    EXPECT_EQ(app::threads_to_use(cores + 5), cores);
+    EXPECT_EQ(sim::threads_to_use(0), cores);
+    EXPECT_EQ(sim::threads_to_use(1), 1);
+    EXPECT_EQ(sim::threads_to_use(cores + 5), cores);
 }
 
 TEST(RunChecks, MemoryEstimateFollowsTheMeasuredPeaks)
@@ -57,11 +57,11 @@ TEST(RunChecks, MemoryEstimateFollowsTheMeasuredPeaks)
     for (int k = 0; k < 5; ++k) {
         const long long n = static_cast<long long>(sides[k]) * sides[k];
         const double one = one_thread_kB[k] * 1024, two = two_threads_kB[k] * 1024;
-        EXPECT_NEAR(app::estimate_drape_memory(n, 1).resident_bytes / margin, one, 0.03 * one) << sides[k];
-        EXPECT_NEAR(app::estimate_drape_memory(n, 2).resident_bytes / margin, two, 0.03 * two) << sides[k];
-        EXPECT_GT(app::estimate_drape_memory(n, 4).resident_bytes, 1.05 * two) << sides[k];  // never under, margin included
+        EXPECT_NEAR(sim::estimate_drape_memory(n, 1).resident_bytes / margin, one, 0.03 * one) << sides[k];
+        EXPECT_NEAR(sim::estimate_drape_memory(n, 2).resident_bytes / margin, two, 0.03 * two) << sides[k];
+        EXPECT_GT(sim::estimate_drape_memory(n, 4).resident_bytes, 1.05 * two) << sides[k];  // never under, margin included
     }
-    const auto e = app::estimate_drape_memory(4'000'000, 2);
+    const auto e = sim::estimate_drape_memory(4'000'000, 2);
     EXPECT_GT(e.address_space_bytes, e.resident_bytes);
     EXPECT_GT(e.resident_bytes, 50e9);  // --grid 2000 cannot run in 4 GB
 }
@@ -111,19 +111,19 @@ TEST(MemoryCheck, ShortOfFreeMemoryNowIsARuntimeFailureNotBadInput)
 {
     // Within the lasting limits (none here) but above what is free at this moment: exit 1,
     // "not enough memory now" (a dip in MemAvailable refused a default drape as bad input).
-    const app::MemoryEstimate e = app::estimate_drape_memory(51 * 51, 1);
+    const sim::MemoryEstimate e = sim::estimate_drape_memory(51 * 51, 1);
     try {
-        app::check_memory_estimate(e, app::MemoryLimit{}, 1e6, 2601, "scene.toml", "cloth.grid", "use a smaller grid");
+        app::check_memory_estimate(e, sim::MemoryLimit{}, 1e6, 2601, "scene.toml", "cloth.grid", "use a smaller grid");
         FAIL();
     } catch (const RuntimeError& err) {
         EXPECT_THAT(std::string(err.what()), ::testing::HasSubstr("not enough memory now: 2601 particles need about"));
     }
     // Above a lasting limit: bad input, naming the field.
-    EXPECT_THROW(app::check_memory_estimate(e, app::MemoryLimit{1e6, "cgroup memory.max", false}, 1e12, 2601, "scene.toml", "cloth.grid",
+    EXPECT_THROW(app::check_memory_estimate(e, sim::MemoryLimit{1e6, "cgroup memory.max", false}, 1e12, 2601, "scene.toml", "cloth.grid",
                                             "use a smaller grid"),
                  InputError);
-    EXPECT_NO_THROW(app::check_memory_estimate(e, app::MemoryLimit{1e12, "cgroup memory.max", false}, 1e12, 2601, "scene.toml",
+    EXPECT_NO_THROW(app::check_memory_estimate(e, sim::MemoryLimit{1e12, "cgroup memory.max", false}, 1e12, 2601, "scene.toml",
                                                "cloth.grid", "use a smaller grid"));
     // The machine's memory is a lasting limit; MemAvailable is not one.
-    EXPECT_NE(app::memory_limit().what, "MemAvailable");
+    EXPECT_NE(sim::memory_limit().what, "MemAvailable");
 }

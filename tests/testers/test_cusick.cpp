@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -278,4 +279,40 @@ TEST(Cusick, TheDiscsHoldWhatPinningTheParticlesInsideTheRimHolds)
     std::printf("discs %.3f  pinned r <= r_d %.3f  pinned r <= r_d + sigma/2 %.3f\n", discs, pinned0, pinned_half);
     EXPECT_NEAR(discs, pinned0, 1.5);
     EXPECT_GT(pinned_half, std::max(discs, pinned0) + 2.0);
+}
+
+TEST(Cusick, ASeedWithoutSearchIsItsDrapeAsTheOnePredictedState)
+{
+    SKIP_UNDER_SANITIZERS();
+    const kes::FabricData f = fabric(15, 0.1, 0.1, 1.0);
+    t::CusickOptions o = coarse(3);
+    o.spacing_m = 0.02;  // 177 particles
+    const t::CusickResult direct = t::run_cusick(f, o);
+    const t::CusickSearch seed = t::run_cusick_seed(f, o, nullptr);
+    ASSERT_EQ(seed.states.size(), 1u);
+    EXPECT_EQ(seed.prediction, 0);
+    EXPECT_FALSE(seed.interrupted);
+    EXPECT_EQ(seed.states[0].start.guides, 0);
+    EXPECT_EQ(t::start_name(seed.states[0].start), "release");
+    // The same drape, bit for bit.
+    EXPECT_EQ(seed.states[0].result.shadow.drape_coefficient_percent, direct.shadow.drape_coefficient_percent);
+    EXPECT_EQ(seed.states[0].result.drape.energy.total(), direct.drape.energy.total());
+    EXPECT_GT(direct.shadow.drape_coefficient_percent, 0.0);
+    EXPECT_LT(direct.shadow.drape_coefficient_percent, 100.0);
+}
+
+TEST(Cusick, StartNamesAndRunStatistics)
+{
+    EXPECT_EQ(t::start_name({}), "release");
+    EXPECT_EQ(t::start_name({3, 0.4, 0}), "3 guides");
+    EXPECT_EQ(t::start_name({0, 0, 16}), "from 16 x B");
+    // Drape coefficients 60, 62, 67 %: mean 63, sample standard deviation sqrt((9 + 1 + 16) / 2).
+    const t::CusickStatistics s = t::cusick_statistics({60, 62, 67}, {5, 6, 5});
+    EXPECT_NEAR(s.drape_coefficient_mean, 63.0, 1e-12);
+    EXPECT_NEAR(s.drape_coefficient_std, std::sqrt(13.0), 1e-12);
+    EXPECT_EQ(s.runs_per_node_count, (std::map<int, int>{{5, 2}, {6, 1}}));
+    // One run: no spread.
+    const t::CusickStatistics one = t::cusick_statistics({58.5}, {4});
+    EXPECT_DOUBLE_EQ(one.drape_coefficient_mean, 58.5);
+    EXPECT_EQ(one.drape_coefficient_std, 0.0);
 }

@@ -15,7 +15,7 @@
 #include "woven/app/drape_report.hpp"
 #include "woven/app/material.hpp"
 #include "woven/app/progress.hpp"
-#include "woven/app/resources.hpp"
+#include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/app/scene_view.hpp"
 #include "woven/common/error.hpp"
@@ -131,7 +131,7 @@ testers::CusickSetup cusick_setup(const testers::CusickOptions& co)
 void check_cusick_memory(const testers::CusickSetup& setup, const testers::CusickOptions& co, const CusickRequest& r,
                          const testers::CusickSearchOptions& search)
 {
-    MemoryEstimate need = estimate_drape_memory(setup.cut.count, threads_to_use(co.solver.threads));
+    sim::MemoryEstimate need = sim::estimate_drape_memory(setup.cut.count, sim::threads_to_use(co.solver.threads));
     const int at_once = r.search ? std::max(1, search.jobs) : 1;
     need.address_space_bytes += (at_once - 1) * need.resident_bytes;
     need.resident_bytes *= at_once;
@@ -167,14 +167,8 @@ testers::CusickSearch run_seed(const kes::FabricData& fabric, const testers::Cus
 {
     const int max_steps = ck.solver.max_steps > 0 ? ck.solver.max_steps : sim::default_max_steps(ck.solver.kind);
     Progress progress(max_steps, ck.solver.residual_tolerance);
-    testers::CusickSearch found;
-    if (search_states) {
-        found = testers::search_cusick(fabric, ck, search, [&progress](const sim::StepInfo& s) { return progress(s); });
-    } else {
-        found.states.push_back({{}, testers::run_cusick(fabric, ck, [&progress](const sim::StepInfo& s) { return progress(s); })});
-        found.prediction = 0;
-        found.interrupted = found.states[0].result.drape.interrupted;
-    }
+    testers::CusickSearch found =
+        testers::run_cusick_seed(fabric, ck, search_states ? &search : nullptr, [&progress](const sim::StepInfo& s) { return progress(s); });
     progress.finish();
     if (found.prediction < 0) throw RuntimeError("cusick: the search reached no rest state");
     return found;
@@ -186,10 +180,7 @@ nlohmann::json states_json(const testers::CusickSearch& found)
     nlohmann::json states = nlohmann::json::array();
     for (const testers::CusickState& st : found.states) {
         const testers::CusickResult& sr = st.result;
-        const std::string start = st.start.guides > 0   ? std::to_string(st.start.guides) + " guides"
-                                  : st.start.stiffer > 0 ? "from " + std::to_string(static_cast<int>(st.start.stiffer)) + " x B"
-                                                         : std::string("release");
-        states.push_back({{"start", start},
+        states.push_back({{"start", testers::start_name(st.start)},
                           {"guides", st.start.guides},
                           {"stiffer", st.start.stiffer},
                           {"phase_deg", st.start.phase_rad * 180 / M_PI},
@@ -302,17 +293,12 @@ nlohmann::json cusick_report(const CusickRun& c, const testers::CusickSearchOpti
 /// counts.
 void add_run_statistics(nlohmann::json& rep, const std::vector<double>& dcs, const std::vector<int>& counts)
 {
-    const double n = static_cast<double>(dcs.size());
-    double mean = 0, var = 0;
-    for (double d : dcs) mean += d / n;
-    for (double d : dcs) var += (d - mean) * (d - mean) / std::max(1.0, n - 1);
-    rep["drape_coefficient_mean"] = mean;
-    rep["drape_coefficient_std"] = std::sqrt(var);
+    const testers::CusickStatistics st = testers::cusick_statistics(dcs, counts);
+    rep["drape_coefficient_mean"] = st.drape_coefficient_mean;
+    rep["drape_coefficient_std"] = st.drape_coefficient_std;
     rep["nodes_per_run"] = counts;
-    std::map<int, int> per;
-    for (int c : counts) ++per[c];
     nlohmann::json pj = nlohmann::json::object();
-    for (const auto& [c, m] : per) pj[std::to_string(c)] = m;
+    for (const auto& [c, m] : st.runs_per_node_count) pj[std::to_string(c)] = m;
     rep["runs_per_node_count"] = pj;
 }
 

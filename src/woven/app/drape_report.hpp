@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/analysis/folds.hpp"
+#include "woven/analysis/state_measures.hpp"
 #include "woven/common/types.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/kes/fabric.hpp"
@@ -24,21 +25,6 @@ struct KesValues {
     double G = 0;        ///< gf/(cm.deg)
 };
 KesValues kes_values(const kes::FabricData& fabric);
-
-/// Geometric measures of a draped state (SI).
-struct StateMeasures {
-    double max_penetration = 0;  ///< m: largest max(0, -distance) over particles and obstacles
-    int contact_particles = 0;   ///< particles within `contact_distance` of an obstacle
-    double strain_max = 0;       ///< largest thread strain |x_i - x_j| / sigma - 1 over the 4-connected edges
-    double strain_min = 0;       ///< smallest (most compressed)
-    double strain_mean = 0;      ///< mean
-    double strain_max_abs = 0;   ///< largest |strain|
-    Vec3 bbox_min = Vec3::Zero(), bbox_max = Vec3::Zero();  ///< m
-};
-/// Over the particles marked in `active` (empty: all; a cloth cut to an outline: the kept ones)
-/// and the threads between them.
-StateMeasures measure_state(const Positions& x, const model::Grid& grid, const geometry::ObstacleSet& obstacles,
-                            double contact_distance, const std::vector<char>& active = {});
 
 /// A solver run's outcome and counters as a report writes them: `converged`, `steps`,
 /// `iterations`, `wall_time_s` and, with `fast_counters` (the fast solver's), `factorizations`,

@@ -24,6 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "woven/analysis/leaving_folds.hpp"
 #include "woven/analysis/folds.hpp"
 #include "woven/app/drape_report.hpp"
 #include "woven/app/experiment.hpp"
@@ -52,44 +53,11 @@ namespace woven::app {
 
 namespace {
 
-/// A corner's structure, read from the section 0.10 m below the top (the first depth).
-enum class Structure { NONE, SINGLE_DIAGONAL, SINGLE_OFFSET, MULTIPLE };
-/// A single billow within this angle of the corner's diagonal leaves it "at 45 degrees" (deg).
-constexpr double kDiagonalToleranceDeg = 15;
-/// Billows further than this from the diagonal (deg) stand well in front of a side (45 deg is
-/// the side's normal): a wave of the side's panel, not a fold leaving the corner; the structure
-/// counts only the others. On the cube the side waves sit at 99-132 deg, the corner folds
-/// within 70 deg (corner_map.md): 80 separates them.
-constexpr double kCornerConeDeg = 80;
-
-const char* structure_name(Structure s)
-{
-    switch (s) {
-    case Structure::NONE: return "none";
-    case Structure::SINGLE_DIAGONAL: return "single, on the diagonal";
-    case Structure::SINGLE_OFFSET: return "single, off the diagonal";
-    case Structure::MULTIPLE: return "two or more folds";
-    }
-    return "";
-}
-
-/// The billows of a corner that leave it (within kCornerConeDeg of its diagonal).
-std::vector<analysis::Billow> leaving(const std::vector<analysis::Billow>& all)
-{
-    std::vector<analysis::Billow> out;
-    for (const auto& b : all)
-        if (std::abs(b.angle_deg) <= kCornerConeDeg) out.push_back(b);
-    return out;
-}
-
-Structure classify(const std::vector<analysis::Billow>& all)
-{
-    const std::vector<analysis::Billow> billows = leaving(all);
-    if (billows.empty()) return Structure::NONE;
-    if (billows.size() > 1) return Structure::MULTIPLE;
-    return std::abs(billows[0].angle_deg) <= kDiagonalToleranceDeg ? Structure::SINGLE_DIAGONAL : Structure::SINGLE_OFFSET;
-}
-
+/// The corners' structures (analysis/leaving_folds.hpp).
+using Structure = analysis::LeavingFolds;
+using analysis::kCornerConeDeg;
+using analysis::kDiagonalToleranceDeg;
+using analysis::structure_name;
 
 std::string which_name(const ExperimentRequest& o) { return name_of(kExperimentNames, o.which); }
 
@@ -421,28 +389,17 @@ ExperimentResult run_cube(const ExperimentRequest& o)
           "billows (deg) | mean abs angle (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
     nlohmann::json stats = nlohmann::json::object();
     for (std::size_t f = 0; f < fabrics.size(); ++f) {
-        std::map<Structure, int> count;
-        double sum = 0, sum_abs = 0;
-        int singles = 0, corners = 0;
+        analysis::CornerCounts counts;
         std::vector<double> energies;
         for (const Outcome& d : runs[f]) {
             energies.push_back(d.energy_J);
             if (!d.has_folds() || d.sections.empty()) continue;
-            for (int c = 0; c < 4; ++c) {
-                const auto b = leaving(d.sections[0][c]);
-                ++count[classify(b)];
-                ++corners;
-                if (b.size() == 1) {
-                    sum += b[0].angle_deg;
-                    sum_abs += std::abs(b[0].angle_deg);
-                    ++singles;
-                }
-            }
+            for (int c = 0; c < 4; ++c) counts.add(d.sections[0][c]);
         }
-        std::sort(energies.begin(), energies.end());
-        int distinct = energies.empty() ? 0 : 1;
-        for (std::size_t k = 1; k < energies.size(); ++k)
-            if (energies[k] - energies[k - 1] > 1e-9 * std::abs(energies[k])) ++distinct;
+        const int distinct = analysis::distinct_energies(energies);
+        std::map<Structure, int>& count = counts.count;
+        const int corners = counts.corners, singles = counts.singles;
+        const double sum = counts.sum_angle_deg, sum_abs = counts.sum_abs_angle_deg;
         auto pct = [&](Structure s) { return corners ? fmt("%.0f %%", 100.0 * count[s] / corners) : std::string("-"); };
         md << "| " << o.fabrics[f] << " | " << corners << " | " << pct(Structure::SINGLE_DIAGONAL) << " | " << pct(Structure::SINGLE_OFFSET)
            << " | " << pct(Structure::MULTIPLE) << " | " << pct(Structure::NONE) << " | " << (singles ? fmt("%+.1f", sum / singles) : "-")
@@ -517,27 +474,11 @@ MapCell analyse_cell(double r, double c, bool converged, bool has_folds, const s
     cell.ratio = r;
     cell.length = c;
     cell.converged = converged;
-    std::map<Structure, int> count;
-    int singles = 0;
-    if (has_folds)
-        for (int k = 0; k < 4; ++k) {
-            const auto all = corner_billows[k];
-            const auto b = leaving(all);
-            cell.corners.push_back(all);
-            cell.mean_billows += b.size() / 4.0;
-            ++count[classify(b)];
-            if (b.size() == 1) {
-                cell.mean_abs_angle += std::abs(b[0].angle_deg);
-                ++singles;
-            }
-        }
-    if (singles) cell.mean_abs_angle /= singles;
-    int best = -1;
-    for (const auto& [s, n] : count)
-        if (n > best) {
-            best = n;
-            cell.majority = s;
-        }
+    if (has_folds) cell.corners.assign(corner_billows.begin(), corner_billows.begin() + 4);
+    const analysis::CornerSummary summary = analysis::summarise_corners(has_folds, corner_billows);
+    cell.mean_billows = summary.mean_billows;
+    cell.mean_abs_angle = summary.mean_abs_angle;
+    cell.majority = summary.majority;
     return cell;
 }
 

@@ -14,7 +14,6 @@
 #include "woven/app/drape_report.hpp"
 #include "woven/app/material.hpp"
 #include "woven/app/progress.hpp"
-#include "woven/app/resources.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/common/error.hpp"
 #include "woven/common/units.hpp"
@@ -28,15 +27,12 @@
 #include "woven/sim/thread_count.hpp"
 #include "woven/testers/cantilever.hpp"
 #include "woven/testers/kes_bending.hpp"
+#include "woven/testers/kes_protocol.hpp"
 #include "woven/testers/kes_shear.hpp"
 
 namespace woven::app {
 
 namespace {
-
-constexpr double kDefaultCantileverSigmaCm = 0.25;
-constexpr double kDefaultBendingSigmaCm = 0.1;
-constexpr double kDefaultShearSigmaCm = 0.25;
 
 std::string fmt(double v, int digits = 6)
 {
@@ -91,133 +87,58 @@ render::Image curve_plot(const std::string& title, const std::string& x_label, c
     return render::plot(render::kes_curve_plot(title, x_label, y_label, runs, bending), 900, 620);
 }
 
-/// Shape error of the simulated strip against the elastica: max |z_sim - z_el(s)| over the
-/// strip's rows, relative to the elastica's tip drop.
-double shape_error(const testers::CantileverShape& sim, const testers::ElasticaSolution& el, double clamp_z)
-{
-    double e = 0;
-    for (std::size_t a = 2; a < sim.z.size(); ++a) {
-        const double s = (static_cast<double>(a) - 0.5) * sim.sigma;
-        const double t = std::min(s, el.s.back()) / el.s.back() * (el.s.size() - 1);
-        const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(t), el.s.size() - 2);
-        const double f = t - k;
-        const double z_el = el.z[k] + f * (el.z[k + 1] - el.z[k]);
-        e = std::max(e, std::abs((sim.z[a] - clamp_z) - z_el) / el.tip_drop);
-    }
-    return e;
-}
-
 /// Refuses (exit 2, the estimate and the limit) a run whose largest specimen would not fit in
 /// the memory the process has (issue 36): the particle counts as the testers lay them out
-/// (kes_shear.hpp, kes_bending.hpp, cantilever.hpp), the cantilever's overhang taken as three
-/// Peirce bending lengths (B / W)^(1/3) (its 41.5 degree chord is near two), its convergence
-/// study at a quarter of the spacing.
-void check_specimen_memory(const kes::FabricData& fabric, bool cantilever, bool bending, bool shear, bool convergence,
-                           std::optional<double> sigma_cm, double shear_length_m, bool shear_length_given)
+/// (testers::kes_specimen_sizes).
+void check_specimen_memory(const kes::FabricData& fabric, const testers::KesProtocolOptions& po, bool sigma_given, bool shear_length_given)
 {
+    const testers::KesSpecimenSizes n = testers::kes_specimen_sizes(fabric, po);
     long long largest = 0;
     std::string field = "--sigma-cm";
-    auto consider = [&](long long n, const std::string& f) {
-        if (n > largest) {
-            largest = n;
+    auto consider = [&](long long count, const std::string& f) {
+        if (count > largest) {
+            largest = count;
             field = f;
         }
     };
-    auto rounded = [](double v) { return static_cast<long long>(std::llround(v)); };
-    if (shear) {
-        const double s = (sigma_cm ? *sigma_cm : kDefaultShearSigmaCm) * units::kCmToM;
-        const double gap = testers::ShearTestOptions{}.gap;
-        const long long N = std::max(2LL, rounded(gap / s));
-        consider((N + 1) * std::max(2LL, rounded(shear_length_m / (gap / N)) + 1), shear_length_given && !sigma_cm ? "--shear-length-cm" : "--sigma-cm");
-    }
-    if (bending) {
-        const testers::BendingTestOptions b;
-        const double s = (sigma_cm ? *sigma_cm : kDefaultBendingSigmaCm) * units::kCmToM;
-        const long long span = std::max(3LL, rounded(b.gap / s));
-        consider((span + 2) * std::max(2LL, rounded(b.width / (b.gap / span)) + 1), "--sigma-cm");
-    }
-    if (cantilever) {
-        const KesValues v = kes_values(fabric);
-        const double c_m = std::cbrt(std::max(v.B_warp, v.B_weft) / (v.W * 1e-3)) * units::kCmToM;
-        double s = (sigma_cm ? *sigma_cm : kDefaultCantileverSigmaCm) * units::kCmToM;
-        if (convergence) s = (sigma_cm ? *sigma_cm : 2 * kDefaultCantileverSigmaCm) * units::kCmToM / 4;
-        const double w = testers::CantileverOptions{}.width;
-        if (std::isfinite(c_m)) consider(std::max(3LL, rounded(3 * c_m / s)) * std::max(2LL, rounded(w / s) + 1), "--sigma-cm");
-    }
-    check_memory_estimate(estimate_tester_memory(largest), largest, kCommandLine, field,
+    consider(n.shear, shear_length_given && !sigma_given ? "--shear-length-cm" : "--sigma-cm");
+    consider(n.bending, "--sigma-cm");
+    consider(n.cantilever, "--sigma-cm");
+    check_memory_estimate(testers::estimate_tester_memory(largest), largest, kCommandLine, field,
                           field == "--sigma-cm" ? "use a larger --sigma-cm" : "use a shorter --shear-length-cm");
 }
 
-/// The cantilever's convergence study: at overhangs L/c = 1 .. 3 (c the elastica's bending
-/// length), the bending length from the tip chord angle (converted with the linear elastica,
-/// testers::bending_length_from_chord) of the simulated strip and of the exact elastica of the
-/// input curve, at spacings S, S/2, S/4; the observed order between successive spacings.
-KesConvergence cantilever_convergence(const kes::FabricData& fabric, testers::Direction d, const testers::CantileverOptions& base,
-                                      const model::ModelOptions& mo)
+/// kes-report.json's cantilever_convergence rows of a study (overhang_ratio, sigma_m,
+/// bending_length_m, elastica_bending_length_m, rel_error, order).
+KesConvergence convergence_json(const testers::CantileverConvergence& study)
 {
-    const double g = mo.gravity > 0 ? mo.gravity : units::kStandardGravity;
-    const double w = testers::weight_per_area(fabric, g);
-    const testers::CurvatureOfMoment law = testers::fabric_curvature_law(fabric, d, model::BendingForm::WORK, mo.gram_force);
-    const double c = 0.5 * testers::elastica_overhang_for_chord_angle(testers::kPeirceChordAngle, w, law);
     nlohmann::json rows = nlohmann::json::array();
-    for (double ratio : {1.0, 1.5, 2.0, 2.5, 3.0}) {
-        const double L = ratio * c;
-        const testers::ElasticaSolution el = testers::cantilever_elastica(L, w, law);
-        const double c_exact = testers::bending_length_from_chord(L, el.chord_angle);
-        double prev_err = 0, prev_sigma = 0;
-        for (int level = 0; level < 3; ++level) {
-            testers::CantileverOptions o = base;
-            o.sigma = base.sigma / (1 << level);
-            const testers::CantileverShape sh = testers::cantilever_at_overhang(fabric, d, L, o);
-            const double c_sim = testers::bending_length_from_chord(L, sh.chord_angle);
-            const double err = (c_sim - c_exact) / c_exact;
-            double order = NAN;
-            if (level > 0 && err != 0 && prev_err != 0) order = std::log(std::abs(prev_err / err)) / std::log(prev_sigma / sh.sigma);
-            rows.push_back({{"direction", testers::to_string(d)},
-                            {"overhang_ratio", ratio},
-                            {"sigma_m", sh.sigma},
-                            {"bending_length_m", c_sim},
-                            {"elastica_bending_length_m", c_exact},
-                            {"rel_error", err},
-                            {"order", finite_or_null(order)}});
-            prev_err = err;
-            prev_sigma = sh.sigma;
-        }
-    }
-    return {testers::to_string(d), c, std::move(rows)};
+    for (const testers::ConvergencePoint& p : study.points)
+        rows.push_back({{"direction", testers::to_string(study.direction)},
+                        {"overhang_ratio", p.overhang_ratio},
+                        {"sigma_m", p.sigma},
+                        {"bending_length_m", p.bending_length},
+                        {"elastica_bending_length_m", p.elastica_bending_length},
+                        {"rel_error", p.rel_error},
+                        {"order", p.order ? nlohmann::json(*p.order) : nlohmann::json()}});
+    return {testers::to_string(study.direction), study.bending_length, std::move(rows)};
 }
 
-/// A run under way: the request's values resolved, the fabric, what the tests produced so far
-/// and the word on the wait (the share of (test, direction) runs done and the Newton iterations
-/// of the one running).
+/// A run under way: the request's values resolved, the fabric and the files the tests produced
+/// so far.
 struct KesRun {
-    KesRun(const KesTestRequest& r, kes::FabricData f, std::string n, int units)
-        : request(r), fabric(std::move(f)), name(std::move(n)), activity("kes-test " + name), units(units)
+    KesRun(const KesTestRequest& r, kes::FabricData f, std::string n)
+        : request(r), fabric(std::move(f)), name(std::move(n)), activity("kes-test " + name)
     {
     }
     const KesTestRequest& request;
     kes::FabricData fabric;
     std::string name;
-    std::vector<testers::Direction> directions;
     model::ModelOptions mo;
-    double gf_cm2_per_cm = 0;  ///< N m per gf.cm2/cm
     std::vector<KesTestRow> rows;
     std::vector<std::pair<std::string, std::string>> csv;  // name, contents
     std::vector<std::pair<std::string, render::Image>> png;
     Activity activity;
-    int units = 1, units_done = 0, iterations = 0;
-    std::string running;
-
-    void begin_unit(const std::string& what)
-    {
-        running = what;
-        iterations = 0;
-        activity.update(double(units_done) / units, running);
-    }
-    std::function<void()> on_iteration()
-    {
-        return [this] { activity.update(double(units_done) / units, running + ", iteration " + std::to_string(++iterations)); };
-    }
 };
 
 bool runs(KesTests tests, KesTests one) { return tests == KesTests::ALL || tests == one; }
@@ -251,34 +172,15 @@ std::vector<std::string> kes_members()
     return members;
 }
 
-void run_cantilevers(KesRun& k)
+/// The cantilevers' files: each strip's shape beside the elastica's (CSV), and their plot.
+void add_cantilever_files(KesRun& k, const std::vector<testers::CantileverResult>& results)
 {
-    const std::optional<double>& sigma_cm = k.request.sigma_cm;
-    testers::CantileverOptions co;
-    co.sigma = (sigma_cm ? *sigma_cm : kDefaultCantileverSigmaCm) * units::kCmToM;
-    co.model = k.mo;
-    co.solve.on_iteration = k.on_iteration();
     render::Plot p;
     p.title = "Cantilever (ASTM D1388), " + k.name + ": strip at the 41.5 degree chord";
     p.x_label = "along the strip (cm)";
     p.y_label = "height (cm)";
-    for (testers::Direction d : k.directions) {
-        k.begin_unit("cantilever " + testers::to_string(d));
-        const testers::CantileverResult r = testers::cantilever_test(k.fabric, d, co);
-        ++k.units_done;
-        KesTestRow row;
-        row.test = "cantilever";
-        row.direction = testers::to_string(d);
-        row.unit = "gf.cm2/cm";
-        row.sigma_m = r.shape.sigma;
-        row.input = r.elastica_flexural_rigidity / k.gf_cm2_per_cm;
-        row.simulated = r.flexural_rigidity / k.gf_cm2_per_cm;
-        row.rel = (r.bending_length - r.elastica_bending_length) / r.elastica_bending_length;
-        row.curve = shape_error(r.shape, r.elastica, 0.5 * (r.shape.z[0] + r.shape.z[1]));
-        row.bending_length_m = r.bending_length;
-        row.elastica_bending_length_m = r.elastica_bending_length;
-        row.solves_or_iterations = r.solves;
-        k.rows.push_back(row);
+    for (const testers::CantileverResult& r : results) {
+        const std::string direction = testers::to_string(r.direction);
         std::ostringstream s;
         s.precision(10);
         s << "source,s_m,x_m,z_m\n";
@@ -286,7 +188,7 @@ void run_cantilevers(KesRun& k)
             s << "simulated," << (a - 0.5) * r.shape.sigma << "," << r.shape.x[a] << "," << r.shape.z[a] << "\n";
         for (std::size_t e = 0; e < r.elastica.s.size(); e += 10)
             s << "elastica," << r.elastica.s[e] << "," << r.elastica.x[e] << "," << r.elastica.z[e] << "\n";
-        k.csv.emplace_back("cantilever_" + row.direction + ".csv", s.str());
+        k.csv.emplace_back("cantilever_" + direction + ".csv", s.str());
         render::Series sim, el;
         for (std::size_t a = 0; a < r.shape.x.size(); ++a) {
             sim.x.push_back(r.shape.x[a] * units::kMToCm);
@@ -297,37 +199,12 @@ void run_cantilevers(KesRun& k)
             el.y.push_back(r.elastica.z[e] * units::kMToCm);
         }
         sim.style = render::Series::Style::POINTS;
-        sim.label = "simulated " + row.direction + " (c " + fmt(r.bending_length * units::kMToCm, 4) + " cm)";
-        el.label = "elastica " + row.direction + " (c " + fmt(r.elastica_bending_length * units::kMToCm, 4) + " cm)";
+        sim.label = "simulated " + direction + " (c " + fmt(r.bending_length * units::kMToCm, 4) + " cm)";
+        el.label = "elastica " + direction + " (c " + fmt(r.elastica_bending_length * units::kMToCm, 4) + " cm)";
         p.series.push_back(el);
         p.series.push_back(sim);
     }
     k.png.emplace_back("cantilever.png", render::plot(p, 900, 620));
-}
-
-/// The table's rows of bending or shear results.
-void add_kes_rows(KesRun& k, const std::vector<testers::KesCurveResult>& results, const std::string& unit)
-{
-    for (const auto& r : results) {
-        KesTestRow row;
-        row.test = r.test;
-        row.direction = testers::to_string(r.direction);
-        row.unit = unit;
-        row.sigma_m = r.sigma;
-        row.input = r.input_summary;
-        row.simulated = r.simulated_summary;
-        row.rel = r.summary_rel_error;
-        row.curve = r.curve_max_rel_error;
-        row.solves_or_iterations = r.iterations;
-        if (!r.y_central.empty()) {
-            row.central = r.central_summary;
-            row.central_rel = r.central_rel_error;
-        }
-        if (r.loop)
-            row.loop = KesLoopRow{r.hysteresis5_at > 0,      r.input_hysteresis,     r.simulated_hysteresis, r.input_hysteresis5,
-                                  r.simulated_hysteresis5,   r.hysteresis_rel_error, r.loop_max_rel_error};
-        k.rows.push_back(row);
-    }
 }
 
 bool any_loop(const std::vector<testers::KesCurveResult>& results)
@@ -335,22 +212,14 @@ bool any_loop(const std::vector<testers::KesCurveResult>& results)
     return std::any_of(results.begin(), results.end(), [](const auto& r) { return r.loop; });
 }
 
-void run_bending_tests(KesRun& k)
+/// The bending tests' files: each curve and loop (CSV), their plots.
+void add_bending_files(KesRun& k, const std::vector<testers::KesCurveResult>& results)
 {
-    testers::BendingTestOptions bo;
-    bo.sigma = (k.request.sigma_cm ? *k.request.sigma_cm : kDefaultBendingSigmaCm) * units::kCmToM;
-    bo.model = k.mo;
-    bo.solve.on_iteration = k.on_iteration();
-    std::vector<testers::KesCurveResult> results;
-    for (testers::Direction d : k.directions) {
-        k.begin_unit("bending " + testers::to_string(d));
-        results.push_back(testers::kes_bending_test(k.fabric, d, bo));
-        ++k.units_done;
-        k.csv.emplace_back("bending_" + testers::to_string(d) + ".csv", curve_csv(results.back(), "K_per_cm", "M_gf_cm_per_cm"));
-        if (results.back().loop)
-            k.csv.emplace_back("bending_loop_" + testers::to_string(d) + ".csv", loop_csv(results.back(), "K_per_cm", "M_gf_cm_per_cm"));
+    for (const testers::KesCurveResult& r : results) {
+        const testers::Direction d = r.direction;
+        k.csv.emplace_back("bending_" + testers::to_string(d) + ".csv", curve_csv(r, "K_per_cm", "M_gf_cm_per_cm"));
+        if (r.loop) k.csv.emplace_back("bending_loop_" + testers::to_string(d) + ".csv", loop_csv(r, "K_per_cm", "M_gf_cm_per_cm"));
     }
-    add_kes_rows(k, results, "gf.cm2/cm");
     k.png.emplace_back("bending.png",
                        curve_plot("KES-FB2 pure bending, " + k.name, "curvature K (1/cm)", "moment M (gf.cm/cm)", results, k.fabric, true));
     if (any_loop(results))
@@ -358,42 +227,18 @@ void run_bending_tests(KesRun& k)
                                                          "curvature K (1/cm)", "moment M (gf.cm/cm)", results));
 }
 
-void run_shear_tests(KesRun& k, double shear_length_m)
+/// The shear tests' files.
+void add_shear_files(KesRun& k, const std::vector<testers::KesCurveResult>& results)
 {
-    testers::ShearTestOptions so;
-    so.sigma = (k.request.sigma_cm ? *k.request.sigma_cm : kDefaultShearSigmaCm) * units::kCmToM;
-    so.length = shear_length_m;
-    so.model = k.mo;
-    so.solve.on_iteration = k.on_iteration();
-    std::vector<testers::KesCurveResult> results;
-    for (testers::Direction d : k.directions) {
-        k.begin_unit("shear " + testers::to_string(d));
-        results.push_back(testers::kes_shear_test(k.fabric, d, so));
-        ++k.units_done;
-        k.csv.emplace_back("shear_" + testers::to_string(d) + ".csv", curve_csv(results.back(), "phi_deg", "F_gf_per_cm"));
-        if (results.back().loop)
-            k.csv.emplace_back("shear_loop_" + testers::to_string(d) + ".csv", loop_csv(results.back(), "phi_deg", "F_gf_per_cm"));
+    for (const testers::KesCurveResult& r : results) {
+        const testers::Direction d = r.direction;
+        k.csv.emplace_back("shear_" + testers::to_string(d) + ".csv", curve_csv(r, "phi_deg", "F_gf_per_cm"));
+        if (r.loop) k.csv.emplace_back("shear_loop_" + testers::to_string(d) + ".csv", loop_csv(r, "phi_deg", "F_gf_per_cm"));
     }
-    add_kes_rows(k, results, "gf/(cm.deg)");
     k.png.emplace_back("shear.png", curve_plot("KES-FB1 shear, " + k.name, "shear angle (deg)", "force F (gf/cm)", results, k.fabric, false));
     if (any_loop(results))
         k.png.emplace_back("shear_loop.png", loop_plot("KES-FB1 loop 0 -> +8 -> -8 -> 0 degrees (friction), " + k.name, "shear angle (deg)",
                                                        "force F (gf/cm)", results));
-}
-
-std::vector<KesConvergence> run_convergence(KesRun& k)
-{
-    testers::CantileverOptions co;
-    co.sigma = (k.request.sigma_cm ? *k.request.sigma_cm : 2 * kDefaultCantileverSigmaCm) * units::kCmToM;
-    co.model = k.mo;
-    co.solve.on_iteration = k.on_iteration();
-    std::vector<KesConvergence> studies;
-    for (testers::Direction d : k.directions) {
-        k.begin_unit("convergence " + testers::to_string(d));
-        studies.push_back(cantilever_convergence(k.fabric, d, co, k.mo));
-        ++k.units_done;
-    }
-    return studies;
 }
 
 /// One entry of kes-report.json's `tests`.
@@ -482,19 +327,21 @@ KesTestResult kes_test(const KesTestRequest& request)
     // Everything is checked before anything runs or is written: every value first, then the
     // fabric, the memory the largest specimen needs and the output folder.
     check_kes_request(request);
-    const bool run_cantilever = runs(request.tests, KesTests::CANTILEVER);
-    const bool run_bending = runs(request.tests, KesTests::BENDING);
-    const bool run_shear = runs(request.tests, KesTests::SHEAR);
-    std::vector<testers::Direction> directions;
-    if (request.directions != KesDirections::WEFT) directions.push_back(testers::Direction::WARP);
-    if (request.directions != KesDirections::WARP) directions.push_back(testers::Direction::WEFT);
-    const double shear_length_m = request.shear_length_cm ? *request.shear_length_cm * units::kCmToM : testers::ShearTestOptions{}.length;
+    testers::KesProtocolOptions po;
+    po.directions.clear();
+    if (request.directions != KesDirections::WEFT) po.directions.push_back(testers::Direction::WARP);
+    if (request.directions != KesDirections::WARP) po.directions.push_back(testers::Direction::WEFT);
+    po.cantilever = runs(request.tests, KesTests::CANTILEVER);
+    po.bending = runs(request.tests, KesTests::BENDING);
+    po.shear = runs(request.tests, KesTests::SHEAR);
+    po.convergence = request.convergence;
+    if (request.sigma_cm) po.sigma = *request.sigma_cm * units::kCmToM;
+    if (request.shear_length_cm) po.shear_length = *request.shear_length_cm * units::kCmToM;
     std::vector<std::string> warnings;
     kes::FabricData fabric = command_fabric(request.fabric, request.given_fabric, &warnings);
     if (request.on_warnings) request.on_warnings(warnings);
     warnings.clear();  // delivered
-    check_specimen_memory(fabric, run_cantilever, run_bending, run_shear, request.convergence, request.sigma_cm, shear_length_m,
-                          request.shear_length_cm.has_value());
+    check_specimen_memory(fabric, po, request.sigma_cm.has_value(), request.shear_length_cm.has_value());
     std::string name = fabric.name.empty() ? std::filesystem::path(request.fabric).stem().string() : fabric.name;
     std::string safe;
     for (char c : name) safe += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
@@ -510,17 +357,18 @@ KesTestResult kes_test(const KesTestRequest& request)
     with_fabric_source(command_fabric_source(request.fabric, request.given_fabric), [&] { resolve_shear_law(fabric, mo, warnings); });
     if (request.on_warnings && !warnings.empty()) request.on_warnings(warnings);
 
-    const int units = (int(run_cantilever) + int(run_bending) + int(run_shear) + int(request.convergence)) * int(directions.size());
-    KesRun k(request, std::move(fabric), name, units);
-    k.directions = directions;
+    KesRun k(request, std::move(fabric), name);
     k.mo = mo;
-    k.gf_cm2_per_cm = units::newton_per_gram_force(k.mo.gram_force) * units::kCmToM;
+    po.model = mo;
     const sim::ThreadCount thread_count(request.threads, request.threads);
-    if (run_cantilever) run_cantilevers(k);
-    if (run_bending) run_bending_tests(k);
-    if (run_shear) run_shear_tests(k, shear_length_m);
+    testers::KesProtocolResult measured =
+        testers::run_kes_tests(k.fabric, po, [&k](double fraction, const std::string& what) { k.activity.update(fraction, what); });
+    k.rows = measured.rows;
+    if (po.cantilever) add_cantilever_files(k, measured.cantilever);
+    if (po.bending) add_bending_files(k, measured.bending);
+    if (po.shear) add_shear_files(k, measured.shear);
     KesTestResult result;
-    if (request.convergence) result.convergence = run_convergence(k);
+    for (const testers::CantileverConvergence& study : measured.convergence) result.convergence.push_back(convergence_json(study));
 
     // Every number written is finite (a test that could not measure is null in the report, as
     // documented; its tables must hold numbers), then one set, kes-report.json last.

@@ -16,6 +16,7 @@
 #include "woven/app/progress.hpp"
 #include "woven/common/choice.hpp"
 #include "woven/model/cloth_model.hpp"
+#include "woven/testers/kes_protocol.hpp"
 #include "woven/testers/specimen.hpp"
 
 namespace woven::app {
@@ -56,23 +57,9 @@ struct KesTestRequest {
     Monitor monitor;
 };
 
-/// A friction loop's widths (bending: 2HB; shear: 2HG and 2HG5), input and simulated.
-struct KesLoopRow {
-    bool shear = false;
-    double input_hysteresis = 0, simulated_hysteresis = 0;    ///< 2HB (gf.cm/cm) or 2HG (gf/cm)
-    double input_hysteresis5 = 0, simulated_hysteresis5 = 0;  ///< shear: 2HG5 (gf/cm)
-    double hysteresis_rel_error = 0, loop_max_rel_error = 0;
-};
-
-/// One test in one direction: the input and simulated summary values.
-struct KesTestRow {
-    std::string test, direction, unit;
-    double sigma_m = 0, input = 0, simulated = 0, rel = 0, curve = 0;
-    std::optional<double> bending_length_m, elastica_bending_length_m;  ///< cantilever
-    std::optional<double> central, central_rel;  ///< shear: the middle half of the clamp (kes_shear.hpp)
-    int solves_or_iterations = 0;
-    std::optional<KesLoopRow> loop;  ///< bending, shear with a loop run (friction)
-};
+/// The summary rows (testers/kes_protocol.hpp).
+using KesLoopRow = testers::KesLoopRow;
+using KesTestRow = testers::KesTestRow;
 
 /// The cantilever's convergence study in one direction (kes-report.json's
 /// cantilever_convergence rows: overhang_ratio, sigma_m, bending_length_m,

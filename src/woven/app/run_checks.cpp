@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "woven/app/files.hpp"
-#include "woven/app/resources.hpp"
+#include "woven/sim/resources.hpp"
 #include "woven/common/error.hpp"
 
 namespace woven::app {
@@ -42,7 +42,7 @@ ThreadCount choose_threads(int requested, std::vector<std::string>& warnings)
 {
     ThreadCount t;
     t.requested = requested;
-    t.used = threads_to_use(requested);
+    t.used = sim::threads_to_use(requested);
     if (requested > t.used)
         warnings.push_back(std::to_string(requested) + " threads asked for, " + std::to_string(t.used) +
                            " cores available to this process; using " + std::to_string(t.used));
@@ -51,16 +51,16 @@ ThreadCount choose_threads(int requested, std::vector<std::string>& warnings)
 
 void check_memory(long long particles, int threads, const std::string& source, const std::string& field)
 {
-    check_memory_estimate(estimate_drape_memory(particles, threads), particles, source, field, "use a smaller grid");
+    check_memory_estimate(sim::estimate_drape_memory(particles, threads), particles, source, field, "use a smaller grid");
 }
 
-void check_memory_estimate(const MemoryEstimate& e, long long particles, const std::string& source, const std::string& field,
+void check_memory_estimate(const sim::MemoryEstimate& e, long long particles, const std::string& source, const std::string& field,
                            const std::string& advice)
 {
-    check_memory_estimate(e, memory_limit(), memory_available(), particles, source, field, advice);
+    check_memory_estimate(e, sim::memory_limit(), sim::memory_available(), particles, source, field, advice);
 }
 
-void check_memory_estimate(const MemoryEstimate& e, const MemoryLimit& limit, double available, long long particles,
+void check_memory_estimate(const sim::MemoryEstimate& e, const sim::MemoryLimit& limit, double available, long long particles,
                            const std::string& source, const std::string& field, const std::string& advice)
 {
     if (limit.bytes > 0) {

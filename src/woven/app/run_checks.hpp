@@ -8,12 +8,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "woven/app/resources.hpp"
+#include "woven/sim/resources.hpp"
 #include "woven/common/types.hpp"
 
 namespace woven::app {
 
-/// Threads asked for (0: all) and used: min(asked, available_cores()); a request above the
+/// Threads asked for (0: all) and used: min(asked, sim::available_cores()); a request above the
 /// cores available adds a warning to `warnings` (more threads than cores only slows a run down).
 struct ThreadCount {
     int requested = 0;
@@ -26,12 +26,12 @@ ThreadCount choose_threads(int requested, std::vector<std::string>& warnings);
 void check_memory(long long particles, int threads, const std::string& source, const std::string& field);
 /// The same check for a memory estimate made elsewhere (kes-test's specimens); `advice` ends
 /// the message ("use a larger --sigma-cm").
-void check_memory_estimate(const MemoryEstimate& estimate, long long particles, const std::string& source,
+void check_memory_estimate(const sim::MemoryEstimate& estimate, long long particles, const std::string& source,
                            const std::string& field, const std::string& advice);
 /// The check itself, against a lasting `limit` (RLIMIT_AS, cgroup, the machine's memory:
 /// InputError above it, exit 2) and the memory `available` now (0: unknown; RuntimeError "not
 /// enough memory now" above it, exit 1).
-void check_memory_estimate(const MemoryEstimate& estimate, const MemoryLimit& limit, double available, long long particles,
+void check_memory_estimate(const sim::MemoryEstimate& estimate, const sim::MemoryLimit& limit, double available, long long particles,
                            const std::string& source, const std::string& field, const std::string& advice);
 
 /// Each `dir`/name that exists must be a regular file (bad usage otherwise: InputError

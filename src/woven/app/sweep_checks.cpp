@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "woven/app/files.hpp"
-#include "woven/app/resources.hpp"
+#include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/app/sweep.hpp"
 #include "woven/app/sweep_parts.hpp"
@@ -88,7 +88,7 @@ void check_points_memory(const io::SweepPlan& plan, const std::vector<std::size_
         }
     }
     if (largest == 0) return;
-    MemoryEstimate e = estimate_drape_memory(largest, threads);
+    sim::MemoryEstimate e = sim::estimate_drape_memory(largest, threads);
     const double at_once = static_cast<double>(std::min<std::size_t>(static_cast<std::size_t>(jobs), todo.size()));
     e.resident_bytes *= at_once;  // the address space is each point's own
     check_memory_estimate(e, largest, plan.source, "point " + at,

@@ -37,7 +37,7 @@
 #include "woven/app/check.hpp"
 #include "woven/app/files.hpp"
 #include "woven/app/progress.hpp"
-#include "woven/app/resources.hpp"
+#include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/app/sweep.hpp"
 #include "woven/app/sweep_parts.hpp"
@@ -405,7 +405,7 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
     }
     res.to_run = todo.size();
     const int jobs = o.jobs;
-    const int cores = available_cores();
+    const int cores = sim::available_cores();
     const int threads = std::max(1, cores / (jobs * local_ranks()));
     check_points_memory(plan, todo, jobs, threads);
     std::ostringstream head;

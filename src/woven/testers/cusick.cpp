@@ -326,4 +326,38 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
     return out;
 }
 
+CusickSearch run_cusick_seed(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions* search,
+                             const sim::ProgressCallback& progress)
+{
+    CusickSearch found;
+    if (search) {
+        found = search_cusick(fabric, options, *search, progress);
+    } else {
+        found.states.push_back({{}, run_cusick(fabric, options, progress)});
+        found.prediction = 0;
+        found.interrupted = found.states[0].result.drape.interrupted;
+    }
+    return found;
+}
+
+std::string start_name(const CusickStart& start)
+{
+    return start.guides > 0    ? std::to_string(start.guides) + " guides"
+           : start.stiffer > 0 ? "from " + std::to_string(static_cast<int>(start.stiffer)) + " x B"
+                               : std::string("release");
+}
+
+CusickStatistics cusick_statistics(const std::vector<double>& drape_coefficients, const std::vector<int>& node_counts)
+{
+    CusickStatistics st;
+    const double n = static_cast<double>(drape_coefficients.size());
+    double mean = 0, var = 0;
+    for (double d : drape_coefficients) mean += d / n;
+    for (double d : drape_coefficients) var += (d - mean) * (d - mean) / std::max(1.0, n - 1);
+    st.drape_coefficient_mean = mean;
+    st.drape_coefficient_std = std::sqrt(var);
+    for (int c : node_counts) ++st.runs_per_node_count[c];
+    return st;
+}
+
 }  // namespace woven::testers

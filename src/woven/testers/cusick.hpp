@@ -19,6 +19,9 @@
 // clamp disc of radius r_d, two obstacles whose rims are true circles. In both the hanging part
 // meets the support disc's rim as an obstacle.
 #include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
 
 #include "woven/analysis/drape_shadow.hpp"
 #include "woven/common/choice.hpp"
@@ -224,5 +227,22 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
 /// drape`; with friction the slip states carried through every step and stage) and reads its
 /// shadow.
 CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress = {});
+
+/// One seed's measurement: with `search` the search of rest states (search_cusick), else the
+/// drape (run_cusick) as the one state, predicted (prediction -1: a search that reached no rest
+/// state).
+CusickSearch run_cusick_seed(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions* search,
+                             const sim::ProgressCallback& progress = {});
+
+/// A start's label: "release", "<n> guides", "from <f> x B".
+std::string start_name(const CusickStart& start);
+
+/// The statistics of several runs (seeds): the drape coefficient's mean and sample standard
+/// deviation (%), and how many runs found each node count.
+struct CusickStatistics {
+    double drape_coefficient_mean = 0, drape_coefficient_std = 0;
+    std::map<int, int> runs_per_node_count;
+};
+CusickStatistics cusick_statistics(const std::vector<double>& drape_coefficients, const std::vector<int>& node_counts);
 
 }  // namespace woven::testers

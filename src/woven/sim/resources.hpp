@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-namespace woven::app {
+namespace woven::sim {
 
 /// Cores this process may run on: the CPUs of its affinity mask (sched_getaffinity), capped by
 /// a cgroup v2 CPU quota (cpu.max) when one is set; at least 1.
@@ -36,9 +36,9 @@ struct MemoryEstimate {
 };
 MemoryEstimate estimate_drape_memory(long long particles, int threads);
 
-/// Estimated peak memory of a virtual instrument's static solve (woven kes-test) on a specimen
-/// of `particles` particles, one thread: the same form, fitted to kes-test's own peaks
-/// (docs/RELIABILITY.md).
-MemoryEstimate estimate_tester_memory(long long particles);
+/// The same form for a solve fitted elsewhere (testers' static solves): resident memory
+/// kMargin (rss_base + rss_per_n_log_n n log2(n)), address space that plus the libraries' and
+/// `threads` threads' share.
+MemoryEstimate estimate_solve_memory(long long particles, double rss_base, double rss_per_n_log_n, int threads);
 
-}  // namespace woven::app
+}  // namespace woven::sim

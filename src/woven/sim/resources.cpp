@@ -1,4 +1,4 @@
-#include "woven/app/resources.hpp"
+#include "woven/sim/resources.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <sched.h>
 #include <sys/resource.h>
 
-namespace woven::app {
+namespace woven::sim {
 
 namespace {
 
@@ -28,11 +28,6 @@ constexpr double kAddressSpaceBaseBytes = 400e6;
 constexpr double kAddressSpacePerThreadBytes = 72e6;  ///< a glibc malloc arena (64 MiB) and a stack (8 MiB)
 /// Margin on the estimate before comparing it with a limit.
 constexpr double kMargin = 1.25;
-/// The virtual instruments' static solves (woven kes-test): peak RSS of `kes-test cotton --test
-/// shear --direction warp` at --sigma-cm 0.25 (1,701 particles, 30.8 MB) and 0.1 (10,251
-/// particles, 129.7 MB), /usr/bin/time -v, through base + per_particle_log * n log2(n).
-constexpr double kTesterRssBaseBytes = 15.5e6;
-constexpr double kTesterRssPerParticleLogBytes = 836;
 
 /// The process's cgroup v2 folder ("/sys/fs/cgroup/<path>"), or "" when not on cgroup v2.
 std::string cgroup_dir()
@@ -109,24 +104,20 @@ MemoryLimit memory_limit()
 
 double memory_available() { return meminfo_bytes("MemAvailable:"); }
 
-MemoryEstimate estimate_drape_memory(long long particles, int threads)
+MemoryEstimate estimate_solve_memory(long long particles, double rss_base, double rss_per_n_log_n, int threads)
 {
     const double n = static_cast<double>(std::max(particles, 2LL));
     MemoryEstimate e;
-    const bool threaded = threads >= 2;
-    e.resident_bytes = kMargin * ((threaded ? kRssBaseBytesThreaded : kRssBaseBytes) +
-                                  (threaded ? kRssPerParticleLogBytesThreaded : kRssPerParticleLogBytes) * n * std::log2(n));
+    e.resident_bytes = kMargin * (rss_base + rss_per_n_log_n * n * std::log2(n));
     e.address_space_bytes = e.resident_bytes + kAddressSpaceBaseBytes + kAddressSpacePerThreadBytes * std::max(threads, 1);
     return e;
 }
 
-MemoryEstimate estimate_tester_memory(long long particles)
+MemoryEstimate estimate_drape_memory(long long particles, int threads)
 {
-    const double n = static_cast<double>(std::max(particles, 2LL));
-    MemoryEstimate e;
-    e.resident_bytes = kMargin * (kTesterRssBaseBytes + kTesterRssPerParticleLogBytes * n * std::log2(n));
-    e.address_space_bytes = e.resident_bytes + kAddressSpaceBaseBytes + kAddressSpacePerThreadBytes;
-    return e;
+    const bool threaded = threads >= 2;
+    return estimate_solve_memory(particles, threaded ? kRssBaseBytesThreaded : kRssBaseBytes,
+                                 threaded ? kRssPerParticleLogBytesThreaded : kRssPerParticleLogBytes, threads);
 }
 
-}  // namespace woven::app
+}  // namespace woven::sim
