@@ -26,7 +26,7 @@ install(TARGETS ${woven_exported} woven_library EXPORT woven-targets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT development)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/woven/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/woven COMPONENT development
   FILES_MATCHING PATTERN "*.hpp"
-  PATTERN cli EXCLUDE PATTERN app EXCLUDE)
+  PATTERN cli EXCLUDE PATTERN app EXCLUDE PATTERN batch EXCLUDE)
 
 set(woven_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/woven)
 install(EXPORT woven-targets NAMESPACE woven:: DESTINATION ${woven_cmake_dir} COMPONENT development)

@@ -1,5 +1,5 @@
 # Fails on an upward #include between the modules of src/woven (docs/CPP.md "Code layout"):
-#   common < kes, geometry < model < analysis < sim < testers < io, render < app < cli, python
+#   common < kes, geometry < model < analysis < sim < testers < io, render < app < batch < cli, python
 # (analysis reads shapes, never solvers: the residual forces of a state are passed in)
 # A file in module M may include "woven/N/..." only when N's layer is at or below M's; the two
 # front ends (cli, python) share a layer and never include each other.
@@ -18,8 +18,9 @@ set(layer_testers 5)
 set(layer_io 6)
 set(layer_render 6)
 set(layer_app 7)
-set(layer_cli 8)
-set(layer_python 8)
+set(layer_batch 8)
+set(layer_cli 9)
+set(layer_python 9)
 
 file(GLOB_RECURSE files RELATIVE "${ROOT}/woven" "${ROOT}/woven/*.hpp" "${ROOT}/woven/*.cpp" "${ROOT}/woven/*.h")
 list(TRANSFORM files PREPEND "${ROOT}/woven/" OUTPUT_VARIABLE paths)

@@ -20,7 +20,7 @@
 #include "woven/app/check.hpp"
 #include "woven/app/fit.hpp"
 #include "woven/app/files.hpp"
-#include "woven/app/sweep.hpp"
+#include "woven/app/point_outputs.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/mesh_file.hpp"

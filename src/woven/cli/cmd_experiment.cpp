@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "woven/app/experiment.hpp"
+#include "woven/batch/experiment.hpp"
 #include "woven/app/progress.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
@@ -17,6 +17,8 @@
 #include "woven/common/error.hpp"
 
 namespace woven::cli {
+
+using namespace woven::batch;
 
 namespace {
 
@@ -54,6 +56,7 @@ ExperimentRequest experiment_request(const ExperimentOptions& o, const std::stri
     r.plan_only = o.plan_only;
     r.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
     r.shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
+    r.executable = kThisProgram;
     r.fabrics = o.fabrics;
     r.command = command;
     r.on_warnings = print_warnings;

@@ -15,12 +15,14 @@
 
 #include <CLI/CLI.hpp>
 
-#include "woven/app/sweep.hpp"
+#include "woven/batch/sweep.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/io/sweep_plan.hpp"
 
 namespace woven::cli {
+
+using namespace woven::batch;
 
 namespace {
 
@@ -52,6 +54,7 @@ int run_sweep(const SweepOptions& o)
     print_warnings(warnings);
     const std::string out = o.out ? parse_path(*o.out, "--out") : join_path("out", "sweep-" + plan.name);
     SweepRunOptions run;
+    run.executable = kThisProgram;
     run.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
     run.shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
     run.on_line = print_line;

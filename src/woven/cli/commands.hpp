@@ -20,6 +20,10 @@ namespace woven::cli {
 // The front end calls the application floor (src/woven/app) by its names.
 using namespace woven::app;
 
+/// This program, which runs each point of a sweep or an experiment as a child process (Linux's
+/// link to the running executable).
+inline constexpr const char* kThisProgram = "/proc/self/exe";
+
 /// Exit codes (README "Exit codes").
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;

@@ -10,7 +10,7 @@
 
 #include "woven/io/sweep_plan.hpp"
 
-namespace woven::app {
+namespace woven::batch {
 
 /// Writes `text` to `path` through a unique temporary in the same folder and a rename.
 void write_atomic(const std::filesystem::path& path, const std::string& text);
@@ -50,4 +50,4 @@ int local_ranks();
 /// own address space.
 void check_points_memory(const io::SweepPlan& plan, const std::vector<std::size_t>& todo, int jobs, int threads);
 
-}  // namespace woven::app
+}  // namespace woven::batch

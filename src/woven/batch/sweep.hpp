@@ -1,9 +1,9 @@
 #pragma once
 // The sweep job (sweep_*.cpp: shard, pool, folder, merge, checks), which `woven sweep` runs and
-// shares with `woven experiment`, `woven report` and the tests: the shard a process runs, the
-// run of a plan's points (resume, verify, jobs), the merge of a sweep folder and the main
-// outputs of a point's manifest.
+// shares with `woven experiment`: the shard a process runs, the run of a plan's points (resume,
+// verify, jobs), each a child process of the woven program, and the merge of a sweep folder.
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -13,7 +13,7 @@
 
 #include "woven/io/sweep_plan.hpp"
 
-namespace woven::app {
+namespace woven::batch {
 
 /// Shard `index` of `count` (0-based): the points whose index modulo count is index.
 struct ShardSpec {
@@ -31,17 +31,15 @@ ShardSpec shard_from(const std::optional<std::string>& option, const std::functi
 /// True when point `point_index` belongs to shard `s`.
 bool in_shard(std::size_t point_index, const ShardSpec& s);
 
-/// The main outputs of a point from its manifest, one flat object per command: drape (energy_J,
-/// max_residual_rel, converged, steps, folds...), cusick (drape_coefficient_percent and _std,
-/// nodes per run, energy_J...), kes-test (each test's simulated and input summary values).
-nlohmann::json point_outputs(const std::string& command, const nlohmann::json& manifest);
-
 struct MergeCounts {
     std::size_t done = 0, failed = 0, missing = 0;
 };
 
 /// How run_sweep_points runs a plan.
 struct SweepRunOptions {
+    /// The woven program each point runs as a child process, with the point's command line (the
+    /// command line gives its own, /proc/self/exe). Required.
+    std::filesystem::path executable;
     int jobs = 1;     ///< points at once on this machine
     ShardSpec shard;  ///< the points of this process
     /// Called as each point's process starts (`woven experiment` prints what it drapes).
@@ -97,4 +95,4 @@ private:
 /// the point folders that verify, under an exclusive lock on the folder; idempotent.
 MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& dir);
 
-}  // namespace woven::app
+}  // namespace woven::batch

@@ -8,13 +8,15 @@
 #include "woven/app/files.hpp"
 #include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
-#include "woven/app/sweep.hpp"
-#include "woven/app/sweep_parts.hpp"
+#include "woven/batch/sweep.hpp"
+#include "woven/batch/sweep_parts.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/scene_file.hpp"
 
-namespace woven::app {
+namespace woven::batch {
+
+using namespace woven::app;
 
 /// Reads every point's overridden scene and fabric with the commands' own readers before
 /// anything runs: a bad value or a key the file does not have (a warning when a scene is read)
@@ -95,4 +97,4 @@ void check_points_memory(const io::SweepPlan& plan, const std::vector<std::size_
                           at_once > 1 ? "use a smaller grid or fewer --jobs (" + std::to_string(static_cast<int>(at_once)) + " points at once)" : "use a smaller grid");
 }
 
-}  // namespace woven::app
+}  // namespace woven::batch

@@ -27,14 +27,14 @@
 #include "woven/analysis/leaving_folds.hpp"
 #include "woven/analysis/folds.hpp"
 #include "woven/app/drape_report.hpp"
-#include "woven/app/experiment.hpp"
+#include "woven/batch/experiment.hpp"
 #include "woven/app/files.hpp"
 #include "woven/app/material.hpp"
 #include "woven/app/progress.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/app/scene_view.hpp"
-#include "woven/app/sweep.hpp"
-#include "woven/app/sweep_parts.hpp"
+#include "woven/batch/sweep.hpp"
+#include "woven/batch/sweep_parts.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/corner_map_file.hpp"
 #include "woven/io/fabric_file.hpp"
@@ -49,7 +49,9 @@
 #include "woven/render/figure.hpp"
 #include "woven/render/instrument_plots.hpp"
 
-namespace woven::app {
+namespace woven::batch {
+
+using namespace woven::app;
 
 namespace {
 
@@ -205,6 +207,7 @@ SweepPlace sweep_place(const ExperimentRequest& o)
 {
     SweepPlace p;
     p.dir = path_given(o.sweep, "--sweep").value_or(join_path("out", "experiment-" + which_name(o)));
+    p.run.executable = o.executable;
     p.run.jobs = static_cast<int>(integer_in_range(o.jobs, "--jobs", 1, 4096));
     p.run.shard = o.shard;
     p.run.on_line = o.on_sweep_line;
@@ -718,4 +721,4 @@ ExperimentResult experiment(const ExperimentRequest& request)
     return result;
 }
 
-}  // namespace woven::app
+}  // namespace woven::batch

@@ -39,15 +39,17 @@
 #include "woven/app/progress.hpp"
 #include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
-#include "woven/app/sweep.hpp"
-#include "woven/app/sweep_parts.hpp"
+#include "woven/batch/sweep.hpp"
+#include "woven/batch/sweep_parts.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output_file.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/io/sweep_plan.hpp"
 
-namespace woven::app {
+namespace woven::batch {
+
+using namespace woven::app;
 
 namespace fs = std::filesystem;
 
@@ -129,10 +131,9 @@ std::string threads_text(const io::SweepPlan& plan, const std::vector<std::size_
 
 class SweepRunner {
 public:
-    SweepRunner(const io::SweepPlan& plan, fs::path sweep, int jobs, int threads_per_point,
-                std::function<void(const io::SweepPoint&)> on_start, std::function<void(const std::string&, bool)> on_line)
+    SweepRunner(const io::SweepPlan& plan, fs::path sweep, int jobs, int threads_per_point, const SweepRunOptions& o)
         : plan_(plan), sweep_(std::move(sweep)), work_root_(sweep_ / ".work"), jobs_(jobs), threads_(threads_per_point),
-          host_(host_name()), on_start_(std::move(on_start)), on_line_(std::move(on_line))
+          host_(host_name()), executable_(o.executable), on_start_(o.on_start), on_line_(o.on_line)
     {
     }
 
@@ -243,7 +244,6 @@ private:
         r.args = command_line(p, r.work);
         const std::string log = (r.work / "log.txt").string();
         std::vector<char*> argv;
-        static const std::string self = "/proc/self/exe";
         std::string argv0 = "woven";
         argv.push_back(argv0.data());
         for (auto& a : r.args) argv.push_back(a.data());
@@ -263,7 +263,7 @@ private:
                 ::dup2(fd, STDOUT_FILENO);
                 ::dup2(fd, STDERR_FILENO);
             }
-            ::execv(self.c_str(), argv.data());
+            ::execv(executable_.c_str(), argv.data());
             ::_exit(127);
         }
         r.pid = pid;
@@ -373,6 +373,7 @@ private:
     fs::path sweep_, work_root_;
     int jobs_, threads_;
     std::string host_;
+    std::string executable_;
     std::function<void(const io::SweepPoint&)> on_start_;
     std::function<void(const std::string&, bool)> on_line_;
     int failed_ = 0, ran_ = 0;
@@ -385,6 +386,7 @@ int sweep_signal_received() { return g_sweep_signal.load(); }
 SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& out, const SweepRunOptions& o)
 {
     SweepRunResult res;
+    if (o.executable.empty()) throw RuntimeError("sweep: no woven executable given to run the points");
     validate_sweep_overrides(plan);
     make_output_dir(out);
     require_own_folders(out);
@@ -414,7 +416,7 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
     head << "; " << res.done_before << " done already, " << todo.size() << " to run, " << jobs << (jobs == 1 ? " job" : " jobs") << " of "
          << threads_text(plan, todo, threads) << "; folder " << out;
     if (o.on_line) o.on_line(head.str(), false);
-    SweepRunner runner(plan, out, jobs, threads, o.on_start, o.on_line);
+    SweepRunner runner(plan, out, jobs, threads, o);
     res.failed = runner.run(todo);
     res.ran = runner.ran();
     if (g_sweep_signal.load() != 0) {
@@ -431,4 +433,4 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
     return res;
 }
 
-}  // namespace woven::app
+}  // namespace woven::batch

@@ -1,6 +1,6 @@
 // The sweep's folder (sweep_parts.hpp, sweep.hpp): its lock, its files written atomically and
 // the state of a point's folder.
-#include "woven/app/sweep_parts.hpp"
+#include "woven/batch/sweep_parts.hpp"
 
 #include <atomic>
 #include <cerrno>
@@ -13,11 +13,13 @@
 
 #include "woven/app/check.hpp"
 #include "woven/app/files.hpp"
-#include "woven/app/sweep.hpp"
+#include "woven/batch/sweep.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/output_file.hpp"
 
-namespace woven::app {
+namespace woven::batch {
+
+using namespace woven::app;
 
 namespace fs = std::filesystem;
 
@@ -140,4 +142,4 @@ PointState point_state(const fs::path& sweep, const io::SweepPoint& p)
 
 bool point_complete(const std::string& dir, const io::SweepPoint& point) { return point_state(dir, point).done; }
 
-}  // namespace woven::app
+}  // namespace woven::batch

@@ -14,10 +14,10 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/app/progress.hpp"
-#include "woven/app/sweep.hpp"
+#include "woven/batch/sweep.hpp"
 #include "woven/common/choice.hpp"
 
-namespace woven::app {
+namespace woven::batch {
 
 enum class Experiment { CUBE, MAP, FIGURE1 };
 inline constexpr std::array<Named<Experiment>, 3> kExperimentNames{
@@ -25,6 +25,7 @@ inline constexpr std::array<Named<Experiment>, 3> kExperimentNames{
 
 struct ExperimentRequest {
     Experiment which = Experiment::CUBE;
+    std::filesystem::path executable;  ///< the woven program that runs each drape (SweepRunOptions::executable)
     /// Not docs/experiments: a run in a clone must not overwrite the committed figures.
     std::filesystem::path out = "out/experiments";
     int seeds = 5;                  ///< cube: seeds 1 .. seeds per fabric, [1, 100]
@@ -44,7 +45,7 @@ struct ExperimentRequest {
     /// The lines the sweep of its drapes reports (SweepRunOptions::on_line).
     std::function<void(const std::string& line, bool out)> on_sweep_line;
     /// Progress, interrupts and the display while the job runs (progress.hpp).
-    Monitor monitor;
+    app::Monitor monitor;
 };
 
 struct ExperimentResult {
@@ -58,4 +59,4 @@ struct ExperimentResult {
 /// request (nothing written); RuntimeError when a drape failed.
 ExperimentResult experiment(const ExperimentRequest& request);
 
-}  // namespace woven::app
+}  // namespace woven::batch

@@ -6,11 +6,13 @@
 #include <string>
 
 #include "woven/app/files.hpp"
-#include "woven/app/sweep.hpp"
-#include "woven/app/sweep_parts.hpp"
+#include "woven/batch/sweep.hpp"
+#include "woven/batch/sweep_parts.hpp"
 #include "woven/common/error.hpp"
 
-namespace woven::app {
+namespace woven::batch {
+
+using namespace woven::app;
 
 ShardSpec shard_from(const std::optional<std::string>& option, const std::function<const char*(const char*)>& env)
 {
@@ -89,4 +91,4 @@ int local_ranks()
     return 1;
 }
 
-}  // namespace woven::app
+}  // namespace woven::batch
