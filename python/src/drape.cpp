@@ -11,6 +11,7 @@
 #include "woven/geometry/mesh_ops.hpp"
 #include "woven/io/drape_files.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_checks.hpp"
 #include "woven/io/sha256.hpp"
 #include "woven/io/values.hpp"
 
@@ -229,7 +230,7 @@ bool step(Stepper& st, int steps, py::object progress)
         });
     }
     callbacks.raise_error();
-    app::require_finite_positions(st.run->positions(), "the drape");
+    io::require_finite_positions(st.run->positions(), "the drape");
     st.changed = false;
     return st.run->totals().converged;
 }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "woven/app/progress.hpp"
+#include "woven/io/output_checks.hpp"
 #include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/common/error.hpp"
@@ -17,21 +18,21 @@ TEST(RunChecks, NoReportWithANonFiniteNumber)
 {
     // a report claiming convergence with null energies was written; now the run fails.
     nlohmann::json r = {{"converged", true}, {"energy", {{"total_J", 0.5}}}, {"folds", nullptr}};
-    EXPECT_NO_THROW(app::require_finite(r, "the drape", {"folds"}));
+    EXPECT_NO_THROW(io::require_finite(r, "the drape", {"folds"}));
     r["energy"]["total_J"] = nullptr;  // what a non-finite number becomes in JSON
     try {
-        app::require_finite(r, "the drape", {"folds"});
+        io::require_finite(r, "the drape", {"folds"});
         FAIL();
     } catch (const RuntimeError& e) {
         EXPECT_STREQ(e.what(), "the drape ended with a non-finite number (energy.total_J); no outputs written");
     }
     r["energy"]["total_J"] = std::numeric_limits<double>::infinity();
-    EXPECT_THROW(app::require_finite(r, "the drape", {"folds"}), RuntimeError);
+    EXPECT_THROW(io::require_finite(r, "the drape", {"folds"}), RuntimeError);
     r["energy"]["total_J"] = 0.5;
     r["bbox"] = {{"min_m", {0.0, std::nan(""), 0.0}}};
-    EXPECT_THROW(app::require_finite(r, "the drape", {"folds"}), RuntimeError);
+    EXPECT_THROW(io::require_finite(r, "the drape", {"folds"}), RuntimeError);
     r.erase("bbox");
-    EXPECT_THROW(app::require_finite(r, "the drape"), RuntimeError);  // folds: null, not optional here
+    EXPECT_THROW(io::require_finite(r, "the drape"), RuntimeError);  // folds: null, not optional here
 }
 
 TEST(RunChecks, ThreadsNeverExceedTheCoresAvailable)
@@ -95,11 +96,11 @@ TEST(RunChecks, FittingErrorsNameTheFabricFile)
 // Every table a command writes is checked finite before it is published.
 TEST(RunChecks, NoTableWithANonFiniteNumber)
 {
-    EXPECT_NO_THROW(app::require_finite_csv("a,b\n1,2\nsimulated,3e-5\n", "t.csv", "fit"));
-    EXPECT_NO_THROW(app::require_finite_csv("nan,inf\n1,2\n", "t.csv", "fit"));  // a header is text
+    EXPECT_NO_THROW(io::require_finite_csv("a,b\n1,2\nsimulated,3e-5\n", "t.csv", "fit"));
+    EXPECT_NO_THROW(io::require_finite_csv("nan,inf\n1,2\n", "t.csv", "fit"));  // a header is text
     for (const char* bad : {"a,b\n1,2\n3,-nan\n", "a,b\n1,2\n3,nan\n", "a,b\n1,2\ninf,4\n", "a,b\n1,2\n3,-inf\n"}) {
         try {
-            app::require_finite_csv(bad, "t.csv", "fit");
+            io::require_finite_csv(bad, "t.csv", "fit");
             ADD_FAILURE() << bad;
         } catch (const RuntimeError& e) {
             EXPECT_STREQ(e.what(), "fit ended with a non-finite number (t.csv, line 3); no outputs written");

@@ -15,6 +15,7 @@
 #include "woven/app/drape_report.hpp"
 #include "woven/app/material.hpp"
 #include "woven/app/progress.hpp"
+#include "woven/io/output_checks.hpp"
 #include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/app/scene_view.hpp"
@@ -239,7 +240,7 @@ void add_run_files(const CusickRun& c, const testers::CusickResult& r, int k, st
     const double R = 0.5 * c.co.specimen_diameter_m, rd = 0.5 * c.co.disc_diameter_m;
     const std::string suffix = c.request.seeds == 1 ? "" : "-seed" + std::to_string(seed);
     const std::string shadow_name = "shadow" + suffix + ".png";
-    require_finite_positions(r.drape.x, "cusick: the drape of seed " + std::to_string(seed));
+    io::require_finite_positions(r.drape.x, "cusick: the drape of seed " + std::to_string(seed));
     c.set.add(shadow_name, render::encode_png(shadow_picture(r.surface, R, rd, nd, r.shadow.drape_coefficient_percent),
                                               join_path(c.out_dir, shadow_name)));
     if (k != 0) return;
@@ -368,7 +369,7 @@ CusickResult cusick(const CusickRequest& request)
     rep["residual_tolerance"] = co.solver.residual_tolerance;
     rep["runs"] = run_list;
     if (runs > 1) add_run_statistics(rep, dcs, counts);
-    require_finite(rep, "cusick");
+    io::require_finite(rep, "cusick");
     rep["files"] = set.files_json();
     set.publish("cusick.json", rep.dump(2) + "\n");
     result.report = std::move(rep);

@@ -13,6 +13,7 @@
 #include "woven/io/drape_files.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_checks.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/start_file.hpp"
 #include "woven/render/gltf_file.hpp"
@@ -278,7 +279,7 @@ DrapeRun finish_drape(const DrapeSetup& d, sim::Result result, bool interrupted)
     run.setup = &d;
     run.result = std::move(result);
     run.interrupted = interrupted || run.result.interrupted;
-    require_finite_positions(run.result.x, "the drape");
+    io::require_finite_positions(run.result.x, "the drape");
     if (d.cut) {
         std::vector<Vec2> uv;
         run.cut_surface.emplace();
@@ -316,7 +317,7 @@ nlohmann::json drape_report_json(const DrapeRun& run, const std::vector<std::str
     report["protocol"] = "drop";
     report["start_sha256"] = d.start_sha256;  // empty: the scene's own start
     report["perturbation_m"] = d.scene.solver.kind == sim::SolverKind::FAST ? d.scene.solver.perturbation : 0.0;
-    require_finite(report, "the drape", {"folds"});
+    io::require_finite(report, "the drape", {"folds"});
     return report;
 }
 

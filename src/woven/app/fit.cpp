@@ -16,6 +16,7 @@
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_checks.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/kes/fit.hpp"
@@ -213,7 +214,7 @@ FitResult fit_and_write(const FitRequest& request)
 
     // Every number written is finite (exit 1 and nothing published otherwise).
     for (const auto& o : outputs)
-        if (!o.image) require_finite_csv(o.contents, o.name, "fit");
+        if (!o.image) io::require_finite_csv(o.contents, o.name, "fit");
 
     // One set: staged, then published with report.json last (io::OutputSet).
     make_output_dir(dir);
@@ -232,7 +233,7 @@ FitResult fit_and_write(const FitRequest& request)
     }
     nlohmann::json report = {{"version", WOVEN_VERSION}, {"command", "fit"}, {"fabric", name},
                              {"fabric_source", command_fabric_source(request.fabric, request.given_fabric)}, {"sigma_cm", sigma_cm}};
-    require_finite(report, "fit");
+    io::require_finite(report, "fit");
     report["files"] = set.files_json();
     set.publish("report.json", report.dump(2) + "\n");
     return {std::move(report), std::move(text), dir, static_cast<int>(outputs.size()) + 1};

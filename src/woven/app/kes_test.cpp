@@ -19,6 +19,7 @@
 #include "woven/common/units.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_checks.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
 #include "woven/render/image.hpp"
@@ -373,7 +374,7 @@ KesTestResult kes_test(const KesTestRequest& request)
     // Every number written is finite (a test that could not measure is null in the report, as
     // documented; its tables must hold numbers), then one set, kes-report.json last.
     nlohmann::json report = kes_report(k, result.convergence);
-    for (const auto& [f, text] : k.csv) require_finite_csv(text, f, "kes-test");
+    for (const auto& [f, text] : k.csv) io::require_finite_csv(text, f, "kes-test");
     for (const auto& [f, text] : k.csv) set.add(f, text);
     for (const auto& [f, image] : k.png) set.add(f, render::encode_png(image, join_path(dir, f)));
     report["files"] = set.files_json();

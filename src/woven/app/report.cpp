@@ -20,11 +20,11 @@
 #include "woven/app/check.hpp"
 #include "woven/app/fit.hpp"
 #include "woven/app/files.hpp"
-#include "woven/app/point_outputs.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/output_file.hpp"
+#include "woven/io/point_outputs.hpp"
 #include "woven/io/sha256.hpp"
 #include "woven/kes/curve.hpp"
 #include "woven/kes/fit.hpp"
@@ -297,7 +297,7 @@ ReportFolder read_output(const fs::path& dir, const std::string& name)
     if (p.manifest.contains("wall_time_s") && p.manifest["wall_time_s"].is_number()) p.wall = p.manifest["wall_time_s"].get<double>();
     if (p.manifest.contains("fabric")) p.values["fabric"] = p.manifest["fabric"];
     if (p.manifest.contains("scene")) p.values["scene"] = p.manifest["scene"];
-    p.outputs = f.command == "fit" ? nlohmann::json::object() : point_outputs(f.command, p.manifest);
+    p.outputs = f.command == "fit" ? nlohmann::json::object() : io::point_outputs(f.command, p.manifest);
     for (auto it = p.outputs.begin(); it != p.outputs.end(); ++it) f.columns.push_back(it.key());
     for (auto it = p.values.begin(); it != p.values.end(); ++it) f.axes.push_back(it.key());
     f.title = "woven " + f.command + " " + p.name;

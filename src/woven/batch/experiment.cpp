@@ -41,10 +41,11 @@
 #include "woven/io/input_file.hpp"
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/output.hpp"
+#include "woven/io/output_checks.hpp"
 #include "woven/io/output_file.hpp"
 #include "woven/io/output_set.hpp"
 #include "woven/io/scene_file.hpp"
-#include "woven/io/sweep_plan.hpp"
+#include "woven/batch/sweep_plan.hpp"
 #include "woven/render/drape_view.hpp"
 #include "woven/render/figure.hpp"
 #include "woven/render/instrument_plots.hpp"
@@ -82,7 +83,7 @@ void require_finite_experiment(nlohmann::json j, const std::string& what)
         }
     };
     strip(j);
-    require_finite(j, what);
+    io::require_finite(j, what);
 }
 
 /// One drape and what it measured, read back from its point folder in the sweep.
@@ -105,7 +106,7 @@ struct Outcome {
 /// The drape of `point` in `sweep_dir` (a complete point folder: run_sweep_points verified it):
 /// its report.json, and with `positions` its particles from drape.obj. RuntimeError when the
 /// folder does not hold a drape's report of the form written by `woven drape`.
-Outcome read_outcome(const std::string& sweep_dir, const io::SweepPoint& point, const std::string& fabric_label, bool positions)
+Outcome read_outcome(const std::string& sweep_dir, const batch::SweepPoint& point, const std::string& fabric_label, bool positions)
 {
     const std::string dir = join_path(sweep_dir, point.name);
     const std::string path = join_path(dir, "report.json");
@@ -192,7 +193,7 @@ std::string plan_options(const ExperimentRequest& o, bool scene_cube, bool seed_
 /// A plan run for an experiment: the plan, or none when this process builds nothing (--plan-only,
 /// or a rank whose points are done while another rank's still run).
 struct PlanRun {
-    std::optional<io::SweepPlan> plan;
+    std::optional<batch::SweepPlan> plan;
     std::string dir;
     std::string message;  ///< without a plan: what the command prints
 };
@@ -232,7 +233,7 @@ PlanRun run_experiment_plan(const ExperimentRequest& o, SweepPlace place, const 
     const std::string plan_path = join_path(r.dir, "plan.toml");
     write_if_changed(plan_path, plan_text);
     std::vector<std::string> warnings;
-    io::SweepPlan plan = io::load_sweep_plan(plan_path, &warnings);
+    batch::SweepPlan plan = batch::load_sweep_plan(plan_path, &warnings);
     if (o.on_warnings) o.on_warnings(warnings);
     if (plan.size() != what.size()) throw RuntimeError(plan_path + ": " + std::to_string(plan.size()) + " points, expected " + std::to_string(what.size()));
     if (o.plan_only) {
@@ -240,7 +241,7 @@ PlanRun run_experiment_plan(const ExperimentRequest& o, SweepPlace place, const 
                     r.dir + "`, then `woven experiment " + which_name(o) + " --sweep " + r.dir + "` builds the figures and tables from it";
         return r;
     }
-    place.run.on_start = [&what, &o](const io::SweepPoint& p) {
+    place.run.on_start = [&what, &o](const batch::SweepPoint& p) {
         if (o.on_drape) o.on_drape(what[p.index]);
     };
     const SweepRunResult res = run_sweep_points(plan, r.dir, place.run);
@@ -328,7 +329,7 @@ ExperimentResult run_cube(const ExperimentRequest& o)
     const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
     if (!pr.plan) return {pr.message, nlohmann::json()};
     const SweepFolderLock lock(pr.dir);  // ranks that find every drape done build one after another
-    const std::vector<io::SweepPoint> points = pr.plan->points();
+    const std::vector<batch::SweepPoint> points = pr.plan->points();
     io::OutputSet set(out_dir, {"cube_figure.png", "cube_folds.md"});
 
     std::vector<std::vector<Outcome>> runs(fabrics.size());
@@ -580,7 +581,7 @@ ExperimentResult run_map(const ExperimentRequest& o)
     // The drapes: a plan with one fabric file per cell (<sweep>/fabrics/ratio-R_length-C.toml).
     std::optional<PlanRun> pr;
     std::optional<SweepFolderLock> lock;
-    std::vector<io::SweepPoint> points;
+    std::vector<batch::SweepPoint> points;
     if (!o.reuse) {
         std::string plan = plan_head("map", "The corner map: synthetic fabrics (cotton's W and shear) of warp/weft bending ratio " +
                                                 fmt("%.3g", ratios.front()) + " .. " + fmt("%.3g", ratios.back()) + " by bending length " +
@@ -673,7 +674,7 @@ ExperimentResult run_figure1(const ExperimentRequest& o)
     const PlanRun pr = run_experiment_plan(o, place, plan, {}, what);
     if (!pr.plan) return {pr.message, nlohmann::json()};
     const SweepFolderLock lock(pr.dir);
-    const std::vector<io::SweepPoint> points = pr.plan->points();
+    const std::vector<batch::SweepPoint> points = pr.plan->points();
     io::OutputSet set(out_dir, {"figure1_chair.png", "figure1_table.png", "figure1.md"});
     std::ostringstream md;
     md << "# Fig. 1: a chair and an end table\n\n"

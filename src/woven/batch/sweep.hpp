@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "woven/io/sweep_plan.hpp"
+#include "woven/batch/sweep_plan.hpp"
 
 namespace woven::batch {
 
@@ -43,7 +43,7 @@ struct SweepRunOptions {
     int jobs = 1;     ///< points at once on this machine
     ShardSpec shard;  ///< the points of this process
     /// Called as each point's process starts (`woven experiment` prints what it drapes).
-    std::function<void(const io::SweepPoint&)> on_start;
+    std::function<void(const batch::SweepPoint&)> on_start;
     /// Gets each line the run reports, without its newline: `out` for the result (stdout),
     /// else the word on the run (stderr): the plan's counts, each point's end, a rerun's reason.
     /// Empty: nothing is shown.
@@ -66,18 +66,18 @@ struct SweepRunResult {
 /// runs the points of the shard whose folders do not verify (point_complete), `jobs` at once,
 /// each as a child process, and merges sweep.csv / sweep.json. Reports a line before the run,
 /// one per point and the merge's counts (SweepRunOptions::on_line).
-SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& dir, const SweepRunOptions& options);
+SweepRunResult run_sweep_points(const batch::SweepPlan& plan, const std::string& dir, const SweepRunOptions& options);
 
 /// The SIGINT / SIGTERM received since run_sweep_points took them over (0: none).
 int sweep_signal_received();
 
 /// Reads each point's overridden scene and fabric with the commands' own readers: a bad value
 /// or a key the file does not have is an InputError naming the plan and the point.
-void validate_sweep_overrides(const io::SweepPlan& plan);
+void validate_sweep_overrides(const batch::SweepPlan& plan);
 
 /// True when <dir>/<point name>/ is complete (its manifest's files verify) and its point.json
 /// records the plan's command line for the point: resume skips it.
-bool point_complete(const std::string& dir, const io::SweepPoint& point);
+bool point_complete(const std::string& dir, const batch::SweepPoint& point);
 
 /// An exclusive flock on a folder (a sweep folder, which ranks share) for its lifetime.
 class SweepFolderLock {
@@ -93,6 +93,6 @@ private:
 
 /// Writes <dir>/sweep.json and sweep.csv (one row per point of the plan, in plan order) from
 /// the point folders that verify, under an exclusive lock on the folder; idempotent.
-MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& dir);
+MergeCounts merge_sweep(const batch::SweepPlan& plan, const std::string& dir);
 
 }  // namespace woven::batch

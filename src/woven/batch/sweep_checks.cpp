@@ -21,7 +21,7 @@ using namespace woven::app;
 /// Reads every point's overridden scene and fabric with the commands' own readers before
 /// anything runs: a bad value or a key the file does not have (a warning when a scene is read)
 /// is an error naming the plan and the point.
-void validate_sweep_overrides(const io::SweepPlan& plan)
+void validate_sweep_overrides(const batch::SweepPlan& plan)
 {
     bool any = false;
     for (const auto& a : plan.axes) any = any || a.key.rfind("scene.", 0) == 0 || a.key.rfind("fabric.", 0) == 0;
@@ -29,14 +29,14 @@ void validate_sweep_overrides(const io::SweepPlan& plan)
     if (!any) return;
     std::set<std::string> seen;
     for (std::size_t index = 0; index < plan.size(); ++index) {
-        const io::SweepPoint p = plan.point(index);
+        const batch::SweepPoint p = plan.point(index);
         if (p.scene_overrides.empty() && p.fabric_overrides.empty()) continue;
         const std::string key = point_signature(p).dump();
         if (!seen.insert(key).second) continue;
         std::vector<std::string> warnings;
         try {
             if (!p.scene_overrides.empty()) {
-                const std::string text = io::apply_toml_overrides(io::scene_or_fabric_text(p.args[1], "scene"), p.args[1], p.scene_overrides);
+                const std::string text = batch::apply_toml_overrides(batch::scene_or_fabric_text(p.args[1], "scene"), p.args[1], p.scene_overrides);
                 (void)io::parse_scene(text, "scene " + p.args[1], ".", &warnings);
             }
             if (!p.fabric_overrides.empty()) {
@@ -45,7 +45,7 @@ void validate_sweep_overrides(const io::SweepPlan& plan)
                     if (p.args[k] == "--fabric") fabric = p.args[k + 1];
                 if (plan.command != "drape") fabric = p.args[1];
                 if (fabric.empty()) fabric = io::find_scene(p.args[1]).fabric;
-                const std::string text = io::apply_toml_overrides(io::scene_or_fabric_text(fabric, "fabric"), fabric, p.fabric_overrides);
+                const std::string text = batch::apply_toml_overrides(batch::scene_or_fabric_text(fabric, "fabric"), fabric, p.fabric_overrides);
                 (void)io::parse_fabric(text, "fabric " + fabric, &warnings);
             }
         } catch (const InputError& e) {
@@ -57,14 +57,14 @@ void validate_sweep_overrides(const io::SweepPlan& plan)
     }
 }
 
-void check_points_memory(const io::SweepPlan& plan, const std::vector<std::size_t>& todo, int jobs, int threads)
+void check_points_memory(const batch::SweepPlan& plan, const std::vector<std::size_t>& todo, int jobs, int threads)
 {
     if (plan.command != "drape" || todo.empty()) return;
     long long largest = 0;
     std::string at;
     std::set<std::string> seen;
     for (const std::size_t index : todo) {
-        const io::SweepPoint p = plan.point(index);
+        const batch::SweepPoint p = plan.point(index);
         io::SceneOverrides ov;
         for (std::size_t k = 2; k + 1 < p.args.size(); ++k)
             if (p.args[k] == "--grid") ov.grid = std::stoi(p.args[k + 1]);
@@ -76,7 +76,7 @@ void check_points_memory(const io::SweepPlan& plan, const std::vector<std::size_
             std::vector<std::string> warnings;
             io::SceneSpec scene = p.scene_overrides.empty()
                                       ? io::find_scene(p.args[1], &warnings)
-                                      : io::parse_scene(io::apply_toml_overrides(io::scene_or_fabric_text(p.args[1], "scene"), p.args[1],
+                                      : io::parse_scene(batch::apply_toml_overrides(batch::scene_or_fabric_text(p.args[1], "scene"), p.args[1],
                                                                                  p.scene_overrides),
                                                         "scene " + p.args[1], ".", &warnings);
             io::apply_overrides(scene, ov, plan.source);

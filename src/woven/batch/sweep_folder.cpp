@@ -42,7 +42,7 @@ void write_atomic(const fs::path& path, const std::string& text)
     }
 }
 
-nlohmann::json point_signature(const io::SweepPoint& p)
+nlohmann::json point_signature(const batch::SweepPoint& p)
 {
     nlohmann::json s;
     s["args"] = p.args;
@@ -71,14 +71,14 @@ std::optional<nlohmann::json> read_manifest(const fs::path& dir)
     return std::nullopt;
 }
 
-nlohmann::json value_json(const io::SweepValue& v)
+nlohmann::json value_json(const batch::SweepValue& v)
 {
     if (!v.number) return v.text;
     if (v.text.find_first_of(".eEn") == std::string::npos) return std::stoll(v.text);
     return std::stod(v.text);
 }
 
-nlohmann::json point_json(const io::SweepPoint& p)
+nlohmann::json point_json(const batch::SweepPoint& p)
 {
     nlohmann::json values = nlohmann::json::object();
     for (const auto& v : p.values) values[v.key] = value_json(v);
@@ -111,7 +111,7 @@ void require_own_folders(const fs::path& sweep)
     }
 }
 
-PointState point_state(const fs::path& sweep, const io::SweepPoint& p)
+PointState point_state(const fs::path& sweep, const batch::SweepPoint& p)
 {
     PointState st;
     const fs::path dir = sweep / p.name;
@@ -140,6 +140,6 @@ PointState point_state(const fs::path& sweep, const io::SweepPoint& p)
     return st;
 }
 
-bool point_complete(const std::string& dir, const io::SweepPoint& point) { return point_state(dir, point).done; }
+bool point_complete(const std::string& dir, const batch::SweepPoint& point) { return point_state(dir, point).done; }
 
 }  // namespace woven::batch

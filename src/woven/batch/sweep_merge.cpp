@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "woven/app/point_outputs.hpp"
 #include "woven/batch/sweep.hpp"
 #include "woven/batch/sweep_parts.hpp"
+#include "woven/io/point_outputs.hpp"
 
 namespace woven::batch {
 
@@ -44,7 +44,7 @@ std::string csv_cell(const nlohmann::json& v)
 
 }  // namespace
 
-MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
+MergeCounts merge_sweep(const batch::SweepPlan& plan, const std::string& sweep_dir)
 {
     const fs::path sweep(sweep_dir);
     const SweepFolderLock lock(sweep_dir);
@@ -52,7 +52,7 @@ MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
     nlohmann::json rows = nlohmann::json::array();
     std::vector<std::string> output_keys;
     for (std::size_t index = 0; index < plan.size(); ++index) {
-        const io::SweepPoint p = plan.point(index);
+        const batch::SweepPoint p = plan.point(index);
         nlohmann::json row = point_json(p);
         const PointState st = point_state(sweep, p);
         if (st.done) {
@@ -62,7 +62,7 @@ MergeCounts merge_sweep(const io::SweepPlan& plan, const std::string& sweep_dir)
             row["status"] = "done";
             row["wall_time_s"] = (*pj)["wall_time_s"];
             row["host"] = pj->value("host", std::string());
-            row["outputs"] = point_outputs(plan.command, m ? *m : nlohmann::json::object());
+            row["outputs"] = io::point_outputs(plan.command, m ? *m : nlohmann::json::object());
             for (auto it = row["outputs"].begin(); it != row["outputs"].end(); ++it)
                 if (std::find(output_keys.begin(), output_keys.end(), it.key()) == output_keys.end()) output_keys.push_back(it.key());
         } else if (const auto f = read_sweep_json(sweep / "failed" / (p.name + ".json")); f && f->value("plan", nlohmann::json()) == point_signature(p)) {

@@ -45,7 +45,7 @@
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output_file.hpp"
 #include "woven/io/scene_file.hpp"
-#include "woven/io/sweep_plan.hpp"
+#include "woven/batch/sweep_plan.hpp"
 
 namespace woven::batch {
 
@@ -78,7 +78,7 @@ std::string host_name()
 /// A point that is running: its child and work folder.
 struct Running {
     pid_t pid = -1;
-    io::SweepPoint point;
+    batch::SweepPoint point;
     fs::path work;
     std::chrono::steady_clock::time_point start;
     std::vector<std::string> args;
@@ -113,7 +113,7 @@ std::optional<std::string> plan_threads(const std::vector<std::string>& args)
 /// "N thread(s)" each point runs on: the plan's --threads where its points give one (0: all
 /// cores), else the share of the cores the sweep passes. Read from the first 1000 points to run
 /// (points are made on demand; a plan's threads are an option or an axis).
-std::string threads_text(const io::SweepPlan& plan, const std::vector<std::size_t>& todo, int share)
+std::string threads_text(const batch::SweepPlan& plan, const std::vector<std::size_t>& todo, int share)
 {
     std::optional<std::string> given;
     bool some_given = false, some_not = false, differ = false;
@@ -131,7 +131,7 @@ std::string threads_text(const io::SweepPlan& plan, const std::vector<std::size_
 
 class SweepRunner {
 public:
-    SweepRunner(const io::SweepPlan& plan, fs::path sweep, int jobs, int threads_per_point, const SweepRunOptions& o)
+    SweepRunner(const batch::SweepPlan& plan, fs::path sweep, int jobs, int threads_per_point, const SweepRunOptions& o)
         : plan_(plan), sweep_(std::move(sweep)), work_root_(sweep_ / ".work"), jobs_(jobs), threads_(threads_per_point),
           host_(host_name()), executable_(o.executable), on_start_(o.on_start), on_line_(o.on_line)
     {
@@ -188,14 +188,14 @@ private:
     }
 
     /// The point's scene or fabric with its overrides, written into its work folder.
-    std::vector<std::string> command_line(const io::SweepPoint& p, const fs::path& work)
+    std::vector<std::string> command_line(const batch::SweepPoint& p, const fs::path& work)
     {
         std::vector<std::string> args = p.args;
         if (!p.scene_overrides.empty()) {
             const std::string scene = args[1];
-            const std::string text = io::scene_or_fabric_text(scene, "scene");
+            const std::string text = batch::scene_or_fabric_text(scene, "scene");
             const fs::path file = work / "scene.toml";
-            std::ofstream(file) << io::apply_toml_overrides(text, scene, p.scene_overrides);
+            std::ofstream(file) << batch::apply_toml_overrides(text, scene, p.scene_overrides);
             args[1] = file.string();
             // A built-in scene names its fabric by name; a scene file's relative paths would move
             // with it: the plan's documentation asks for absolute ones in overridden scene files.
@@ -218,9 +218,9 @@ private:
                 at = 1;
                 fabric = args[1];
             }
-            const std::string text = io::scene_or_fabric_text(fabric, "fabric");
+            const std::string text = batch::scene_or_fabric_text(fabric, "fabric");
             const fs::path file = work / "fabric.toml";
-            std::ofstream(file) << io::apply_toml_overrides(text, fabric, p.fabric_overrides);
+            std::ofstream(file) << batch::apply_toml_overrides(text, fabric, p.fabric_overrides);
             args[at] = file.string();
         }
         if (!plan_threads(args)) {
@@ -232,11 +232,11 @@ private:
         return args;
     }
 
-    Running start(io::SweepPoint point)
+    Running start(batch::SweepPoint point)
     {
         Running r;
         r.point = std::move(point);
-        const io::SweepPoint& p = r.point;
+        const batch::SweepPoint& p = r.point;
         r.work = work_root_ / (p.name + "." + host_ + "." + std::to_string(::getpid()));
         std::error_code ec;
         fs::remove_all(r.work, ec);
@@ -274,7 +274,7 @@ private:
     void finish(const Running& r, int status, std::size_t finished, std::size_t total)
     {
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - r.start).count();
-        const io::SweepPoint& p = r.point;
+        const batch::SweepPoint& p = r.point;
         const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
         std::ostringstream head;
         head << "[" << finished << "/" << total << "] " << p.name << ": ";
@@ -369,12 +369,12 @@ private:
         running.clear();
     }
 
-    const io::SweepPlan& plan_;
+    const batch::SweepPlan& plan_;
     fs::path sweep_, work_root_;
     int jobs_, threads_;
     std::string host_;
     std::string executable_;
-    std::function<void(const io::SweepPoint&)> on_start_;
+    std::function<void(const batch::SweepPoint&)> on_start_;
     std::function<void(const std::string&, bool)> on_line_;
     int failed_ = 0, ran_ = 0;
 };
@@ -383,7 +383,7 @@ private:
 
 int sweep_signal_received() { return g_sweep_signal.load(); }
 
-SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& out, const SweepRunOptions& o)
+SweepRunResult run_sweep_points(const batch::SweepPlan& plan, const std::string& out, const SweepRunOptions& o)
 {
     SweepRunResult res;
     if (o.executable.empty()) throw RuntimeError("sweep: no woven executable given to run the points");
@@ -395,7 +395,7 @@ SweepRunResult run_sweep_points(const io::SweepPlan& plan, const std::string& ou
     std::vector<std::size_t> todo;
     for (std::size_t index = 0; index < plan.size(); ++index) {
         if (!in_shard(index, o.shard)) continue;
-        const io::SweepPoint p = plan.point(index);
+        const batch::SweepPoint p = plan.point(index);
         ++res.mine;
         const PointState st = point_state(out, p);
         if (st.done) {

@@ -18,7 +18,7 @@
 #include "woven/batch/sweep.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
-#include "woven/io/sweep_plan.hpp"
+#include "woven/batch/sweep_plan.hpp"
 
 namespace woven::cli {
 
@@ -50,7 +50,7 @@ std::string shell_quote(const std::string& s)
 int run_sweep(const SweepOptions& o)
 {
     std::vector<std::string> warnings;
-    const io::SweepPlan plan = io::load_sweep_plan(o.plan, &warnings);
+    const batch::SweepPlan plan = batch::load_sweep_plan(o.plan, &warnings);
     print_warnings(warnings);
     const std::string out = o.out ? parse_path(*o.out, "--out") : join_path("out", "sweep-" + plan.name);
     SweepRunOptions run;
@@ -65,7 +65,7 @@ int run_sweep(const SweepOptions& o)
             // where it needs it, so that a pasted line runs the same command.
             std::string line;
             for (std::size_t index = 0; index < plan.size(); ++index) {
-                const io::SweepPoint p = plan.point(index);
+                const batch::SweepPoint p = plan.point(index);
                 line = std::to_string(p.index) + " " + p.name + (in_shard(p.index, run.shard) ? "" : " (other shard)") + ":";
                 for (const auto& a : p.args) line += " " + shell_quote(a);
                 for (const auto& v : p.scene_overrides) line += " " + shell_quote("scene." + v.key + "=" + v.text);

@@ -1,15 +1,15 @@
 #pragma once
 // A job's main numbers read back from the manifest it wrote: the columns of a sweep's tables
-// (batch/sweep_merge) and of the report page's points (report.hpp).
+// (batch/sweep_merge) and of the report page's points (app/report.hpp).
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-namespace woven::app {
+namespace woven::io {
 
 /// The main outputs of a point from its manifest, one flat object per command: drape (energy_J,
 /// max_residual_rel, converged, steps, folds...), cusick (drape_coefficient_percent and _std,
 /// nodes per run, energy_J...), kes-test (each test's simulated and input summary values).
 nlohmann::json point_outputs(const std::string& command, const nlohmann::json& manifest);
 
-}  // namespace woven::app
+}  // namespace woven::io

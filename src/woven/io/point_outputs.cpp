@@ -1,8 +1,8 @@
-#include "woven/app/point_outputs.hpp"
+#include "woven/io/point_outputs.hpp"
 
 #include <initializer_list>
 
-namespace woven::app {
+namespace woven::io {
 
 nlohmann::json point_outputs(const std::string& command, const nlohmann::json& m)
 {
@@ -78,4 +78,4 @@ nlohmann::json point_outputs(const std::string& command, const nlohmann::json& m
     return o;
 }
 
-}  // namespace woven::app
+}  // namespace woven::io

@@ -1,4 +1,4 @@
-#include "woven/io/sweep_plan.hpp"
+#include "woven/batch/sweep_plan.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +18,9 @@
 #include "woven/io/scene_obstacles.hpp"
 #include "woven/io/toml_reader.hpp"
 
-namespace woven::io {
+namespace woven::batch {
+
+using namespace woven::io;
 
 namespace fs = std::filesystem;
 
@@ -526,4 +528,4 @@ std::string apply_toml_overrides(std::string_view text, const std::string& sourc
     return out.str();
 }
 
-}  // namespace woven::io
+}  // namespace woven::batch

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace woven::io {
+namespace woven::batch {
 
 /// The largest number of points a plan may have.
 inline constexpr std::size_t kMaxSweepPoints = 1'000'000;
@@ -73,4 +73,4 @@ std::string apply_toml_overrides(std::string_view text, const std::string& sourc
 /// The TOML text of a built-in scene or fabric, or of a file (`kind`: "scene" or "fabric").
 std::string scene_or_fabric_text(const std::string& name_or_path, const std::string& kind);
 
-}  // namespace woven::io
+}  // namespace woven::batch

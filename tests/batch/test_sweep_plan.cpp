@@ -7,9 +7,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "woven/batch/sweep_plan.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/fabric_file.hpp"
-#include "woven/io/sweep_plan.hpp"
 
 using namespace woven;
 using ::testing::ElementsAre;
@@ -17,9 +17,9 @@ using ::testing::HasSubstr;
 
 namespace {
 
-io::SweepPlan plan(const std::string& text, std::vector<std::string>* warnings = nullptr)
+batch::SweepPlan plan(const std::string& text, std::vector<std::string>* warnings = nullptr)
 {
-    return io::parse_sweep_plan(text, "plan.toml", ".", warnings);
+    return batch::parse_sweep_plan(text, "plan.toml", ".", warnings);
 }
 
 std::string error_of(const std::string& text)
@@ -106,15 +106,15 @@ TEST(SweepPlan, OverridesAreTomlLiteralsAppliedToACopy)
     EXPECT_EQ(pts[1].fabric_overrides[0].text, "1.5");
     // Set into a fabric whose shear is given as summary values (the wool file): the reader
     // then reads the new G.
-    const std::string wool = io::scene_or_fabric_text("wool", "fabric");
-    const std::string changed = io::apply_toml_overrides(wool, "wool", pts[1].fabric_overrides);
+    const std::string wool = batch::scene_or_fabric_text("wool", "fabric");
+    const std::string changed = batch::apply_toml_overrides(wool, "wool", pts[1].fabric_overrides);
     const kes::FabricData f = io::parse_fabric(changed, "wool with G 1.5");
     const kes::FabricData f0 = io::parse_fabric(wool, "wool");
     EXPECT_EQ(f.name, f0.name);
     EXPECT_NE(changed.find("G = 1.5"), std::string::npos) << changed;
     // A key part that is a value, not a table, cannot be descended into.
-    io::SweepValue bad{"name.x", "1", "1", true};
-    EXPECT_THROW(io::apply_toml_overrides(wool, "wool", {bad}), InputError);
+    batch::SweepValue bad{"name.x", "1", "1", true};
+    EXPECT_THROW(batch::apply_toml_overrides(wool, "wool", {bad}), InputError);
 }
 
 TEST(SweepPlan, ErrorsNameTheFileTheFieldAndTheExpectation)
@@ -156,7 +156,7 @@ TEST(SweepPlan, UnknownTopLevelKeysAreWarnings)
 
 TEST(SweepPlan, FabricFilesResolveAgainstThePlanFolderAndNameTheFolder)
 {
-    const auto p = io::parse_sweep_plan("command = \"kes-test\"\n[axes]\nfabric = [\"fabrics/wool.toml\"]\n", WOVEN_SOURCE_DIR "/x.toml",
+    const auto p = batch::parse_sweep_plan("command = \"kes-test\"\n[axes]\nfabric = [\"fabrics/wool.toml\"]\n", WOVEN_SOURCE_DIR "/x.toml",
                                         WOVEN_SOURCE_DIR);
     const auto pts = p.points();
     EXPECT_EQ(pts[0].name, "fabric-wool");
