@@ -14,9 +14,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli_support.hpp"
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "cli_support.hpp"
+#include "process_support.hpp"
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -24,7 +26,7 @@ using ::testing::HasSubstr;
 namespace {
 
 using Ran = woven::test::Outcome;
-using CusickCli = woven::test::WovenProcessTest;
+using CusickCli = woven::test::SpawningProcessTest;
 
 }  // namespace
 
@@ -117,34 +119,17 @@ TEST_F(CusickCli, TheDiscsClampIsWrittenInTheReport)
 // after the current step, the runs done are written with interrupted: true, exit 130.
 TEST_F(CusickCli, AnInterruptWritesTheRunsDone)
 {
-    const fs::path err = dir_ / "stderr.txt";
-    const pid_t pid = ::fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
-        if (::chdir(dir_.c_str()) != 0) ::_exit(99);
-        if (!std::freopen(err.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) ::_exit(99);
-        ::execl(WOVEN_BINARY, WOVEN_BINARY, "cusick", "cotton", "--spacing-cm", "0.7", "--threads", "1", "--no-render", "--out", "c",
-                static_cast<char*>(nullptr));
-        ::_exit(98);
-    }
+    const pid_t pid = spawn({"cusick", "cotton", "--spacing-cm", "0.7", "--threads", "1", "--no-render", "--out", "c"});
+    ASSERT_GT(pid, 0);
     // Wait for the first step's line, then press Ctrl-C.
     int status = 0;
     bool exited = false;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (std::chrono::steady_clock::now() < deadline) {
-        if (::waitpid(pid, &status, WNOHANG) == pid) {
-            exited = true;
-            break;
-        }
-        if (woven::test::slurp(err).find("\nstep ") != std::string::npos) break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    if (!exited) {
+    if (wait_for(pid, "\nstep ", status, exited)) {
         ::kill(pid, SIGINT);
         ASSERT_EQ(::waitpid(pid, &status, 0), pid);
     }
     if (exited && WIFEXITED(status) && WEXITSTATUS(status) == 0) GTEST_SKIP() << "the run finished before its first step's line";
-    const std::string said = woven::test::slurp(err);
+    const std::string said = woven::test::slurp(dir_ / "err.txt");
     ASSERT_TRUE(WIFEXITED(status)) << said;
     EXPECT_EQ(WEXITSTATUS(status), 130) << said;
     EXPECT_THAT(said, HasSubstr("woven: interrupt: stopping after this step"));

@@ -13,32 +13,18 @@
 #include "woven/geometry/primitives.hpp"
 #include "woven/geometry/mesh_ops.hpp"
 #include "woven/render/gltf_file.hpp"
-#include "woven/model/grid.hpp"
+
+#include "io/grid_fixture.hpp"
 
 using namespace woven;
 using ::testing::HasSubstr;
 
 namespace {
 
-constexpr int kNu = 4, kNv = 3;
-
-/// A 4 x 3 grid spacing 0.1 m at z = 0.5, with one particle lifted, and two fields.
-Positions grid()
-{
-    Positions x = model::flat_grid(model::Grid{kNu, kNv, 0.1}, Vec3(0.2, -0.1, 0.5));
-    x[5].z() += 0.03;
-    return x;
-}
-
-std::vector<analysis::VertexField> fields()
-{
-    analysis::VertexField a{"strain_warp", "1", {}}, b{"contact", "1", {}};
-    for (int p = 0; p < kNu * kNv; ++p) {
-        a.values.push_back(0.001 * p - 0.004);
-        b.values.push_back(p % 2);
-    }
-    return {a, b};
-}
+using woven::test::fields;
+using woven::test::grid;
+using woven::test::kNu;
+using woven::test::kNv;
 
 tinygltf::Model load(const std::string& glb)
 {
