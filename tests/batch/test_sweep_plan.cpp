@@ -1,4 +1,4 @@
-// Sweep plans (io/sweep_plan.hpp, docs/SWEEP-FORMAT.md): axes in file order, points as the
+// Sweep plans (batch/sweep_plan.hpp, docs/SWEEP-FORMAT.md): axes in file order, points as the
 // Cartesian product named from their values, command lines, bounds and the error form
 // "<file>: <field>: <what is expected>", and the scene/fabric key overrides.
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// What the pieces of the sweep job share (app/sweep_*.cpp): its folder's files and the state of
+// What the pieces of the sweep job share (batch/sweep_*.cpp): its folder's files and the state of
 // a point's folder, and the checks made before the points run. Not a public header.
 #include <filesystem>
 #include <optional>

@@ -1,4 +1,4 @@
-// woven experiment cube|map|figure1: the options as an experiment request (app/experiment.hpp).
+// woven experiment cube|map|figure1: the options as an experiment request (batch/experiment.hpp).
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>

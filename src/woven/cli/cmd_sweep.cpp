@@ -1,4 +1,4 @@
-// woven sweep PLAN.toml: runs the points of a plan (io/sweep_plan.hpp, docs/SWEEP-FORMAT.md),
+// woven sweep PLAN.toml: runs the points of a plan (batch/sweep_plan.hpp, docs/SWEEP-FORMAT.md),
 // each as a child process of this binary running the plan's command (drape, cusick, kes-test)
 // into a private work folder; a point that finishes and verifies is renamed into place as
 // <sweep>/<point name>/, so a point's folder is there complete (its manifest, every file's
