@@ -331,13 +331,15 @@ def test_experiment(woven, tmp):
             fab = s["label"].split(" (")[0]
             ys = [r["energy_J"] if energy else r["folds"]["projected_area_m2"] for r in j["runs"] if r["fabric"] == fab]
             check(len(ys) == 1 and same(s["y"][0], ys[0]), f"{pid}: {fab}: {s['y']} is cube_results.json's {ys}")
-    # A changed file: a one-line error naming it, exit 2, and the page as it was.
+    # A changed file: a one-line error naming it (as `woven check` finds it: its size first), exit 2,
+    # and the page as it was.
     page = os.path.join(out, "report.html")
     before = open(page, "rb").read()
     with open(os.path.join(out, "cube_folds.md"), "a") as f:
         f.write("changed\n")
     p = run([woven, "report", out], check_rc=2)
-    check(p.stderr.count("\n") == 1 and "cube_folds.md" in p.stderr and "sha256" in p.stderr, f"a changed experiment file: {p.stderr.strip()}")
+    check(p.stderr.count("\n") == 1 and "the output folder does not verify: " in p.stderr and "cube_folds.md: bytes: " in p.stderr,
+          f"a changed experiment file: {p.stderr.strip()}")
     check(open(page, "rb").read() == before, "the page is not rewritten")
 
 

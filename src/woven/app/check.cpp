@@ -285,6 +285,13 @@ std::vector<std::string> check_output_folder(const std::string& dir, std::string
     return f.problems;
 }
 
+std::vector<std::string> check_output_set(const std::string& dir, const std::string& manifest)
+{
+    Findings f;
+    (void)check_set(fs::path(dir), manifest, f);
+    return f.problems;
+}
+
 CheckResult check_path(const std::string& arg)
 {
     Findings f;

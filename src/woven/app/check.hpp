@@ -18,6 +18,9 @@ inline constexpr const char* kManifests[] = {"report.json", "cusick.json", "kes-
 /// One output folder checked: the problems found, one line each (none: a complete set, its
 /// manifest's files there with their sizes and SHA-256); `what` gets the ok line's text.
 std::vector<std::string> check_output_folder(const std::string& dir, std::string* what = nullptr);
+/// The same for the one set of `dir` whose manifest is `manifest` (an experiment's folder holds
+/// up to three: cube_results.json, corner_map.json, figure1.json).
+std::vector<std::string> check_output_set(const std::string& dir, const std::string& manifest);
 
 /// One file or folder checked.
 struct CheckResult {

@@ -25,7 +25,6 @@
 #include "woven/io/mesh_file.hpp"
 #include "woven/io/output_file.hpp"
 #include "woven/io/point_outputs.hpp"
-#include "woven/io/sha256.hpp"
 #include "woven/kes/curve.hpp"
 #include "woven/kes/fit.hpp"
 #include "woven/render/gltf_file.hpp"
@@ -195,21 +194,6 @@ std::vector<std::string> experiment_manifests(const fs::path& dir)
     return found;
 }
 
-/// An experiment's set verifies: each file its manifest lists is there with its size and SHA-256.
-void verify_set(const fs::path& dir, const std::string& manifest)
-{
-    const nlohmann::json j = read_json(dir / manifest, "an experiment's manifest");
-    if (!j.is_object() || !j.contains("files") || !j["files"].is_object())
-        throw InputError((dir / manifest).string(), "files", "expected the list of the set's files with their sizes and SHA-256");
-    for (auto it = j["files"].begin(); it != j["files"].end(); ++it) {
-        const auto data = read_output_file((dir / it.key()).string());
-        const std::string where = (dir / it.key()).string();
-        if (!data) throw InputError(where, "", "listed in " + manifest + " but cannot be read (the folder does not verify)");
-        if (!it->is_object() || it->value("sha256", std::string()) != io::sha256_hex(*data))
-            throw InputError(where, "sha256", "differs from " + manifest + "'s (the folder does not verify)");
-    }
-}
-
 /// What a report is made of: the folder's points, the table's axes and output columns, the
 /// command that made them, the page's title and summary.
 struct ReportFolder {
@@ -264,7 +248,8 @@ ReportFolder read_experiment(const fs::path& dir, const std::vector<std::string>
     p.dir = dir;
     p.name = folder_name(dir);
     for (const auto& m : ex) {
-        verify_set(dir, m);
+        const auto problems = check_output_set(dir.string(), m);
+        if (!problems.empty()) throw InputError(dir.string(), "", "the output folder does not verify: " + problems.front());
         p.manifest[m] = read_json(dir / m, "an experiment's manifest");
     }
     f.title = "woven experiment " + p.name;
