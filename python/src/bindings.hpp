@@ -109,13 +109,13 @@ public:
     InCallback(const InCallback&) = delete;
     InCallback& operator=(const InCallback&) = delete;
 };
-/// Runs `f` (a job), holding a CallLock, with the GIL released and std::cout and std::cerr
-/// captured; `f` gets the Monitor to put in its request (app/progress.hpp): no progress display,
-/// Ctrl-C (a signal the interpreter has seen) polled as an interrupt, and the progress events to
-/// `progress` (a callable, or None) as dicts; False or KeyboardInterrupt from it stops the job as
-/// Ctrl-C does; another exception from it is raised once the job has stopped. The lines "woven:
-/// warning: ..." it printed are issued as Python warnings; `out` receives what it printed on stdout.
-void run_command(const std::function<void(const app::Monitor&)>& f, std::string* out = nullptr, py::handle progress = py::none());
+/// Runs `f` (a job), holding a CallLock, with the GIL released; `f` gets the Monitor to put in
+/// its request (app/progress.hpp): Ctrl-C (a signal the interpreter has seen) polled as an
+/// interrupt, and the progress events to `progress` (a callable, or None) as dicts; False or
+/// KeyboardInterrupt from it stops the job as Ctrl-C does; another exception from it is raised
+/// once the job has stopped. The job prints nothing (app never does); its warnings come back in
+/// its result or its request's on_warnings, which the caller issues as Python warnings (warn).
+void run_command(const std::function<void(const app::Monitor&)>& f, py::handle progress = py::none());
 /// Calls `progress(info)` (marked InCallback): false when it returned False or raised; the first
 /// exception other than KeyboardInterrupt is kept in `error`. With the GIL held.
 bool call_progress(py::handle progress, py::dict info, std::optional<py::error_already_set>& error);

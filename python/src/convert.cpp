@@ -1,8 +1,6 @@
 // Python values to woven's and back, warnings, and a command's code run from Python (bindings.hpp).
 #include <chrono>
-#include <iostream>
 #include <mutex>
-#include <sstream>
 #include <string_view>
 
 #include "bindings.hpp"
@@ -72,40 +70,11 @@ nlohmann::json value(py::handle v, const std::string& source, const std::string&
     throw fail("expected a str, int, float, bool, list or dict, got " + type_name(v));
 }
 
-/// std::cout and std::cerr into strings while alive.
-class Capture {
-public:
-    Capture() : out_old_(std::cout.rdbuf(out_.rdbuf())), err_old_(std::cerr.rdbuf(err_.rdbuf())) {}
-    ~Capture()
-    {
-        std::cout.rdbuf(out_old_);
-        std::cerr.rdbuf(err_old_);
-    }
-    std::string out() const { return out_.str(); }
-    std::string err() const { return err_.str(); }
-
-private:
-    std::ostringstream out_, err_;
-    std::streambuf* out_old_;
-    std::streambuf* err_old_;
-};
-
 /// The interrupt poll of a job run from Python (app::Monitor::interrupt).
 bool poll_python()
 {
     py::gil_scoped_acquire gil;
     return signal_seen();
-}
-
-/// "woven: warning: <w>" lines of a command's stderr.
-std::vector<std::string> printed_warnings(const std::string& err)
-{
-    std::vector<std::string> out;
-    std::istringstream s(err);
-    const std::string prefix = "woven: warning: ";
-    for (std::string line; std::getline(s, line);)
-        if (line.rfind(prefix, 0) == 0) out.push_back(line.substr(prefix.size()));
-    return out;
 }
 
 }  // namespace
@@ -284,11 +253,10 @@ bool call_progress(py::handle progress, py::dict info, std::optional<py::error_a
     }
 }
 
-void run_command(const std::function<void(const app::Monitor&)>& f, std::string* out, py::handle progress)
+void run_command(const std::function<void(const app::Monitor&)>& f, py::handle progress)
 {
     const CallLock lock;
     if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw py::type_error("progress must be callable or None");
-    std::string err;
     std::exception_ptr failure;
     std::optional<py::error_already_set> callback_error;
     // The job's monitor: no display, Ctrl-C polled, progress events to the callable.
@@ -304,19 +272,13 @@ void run_command(const std::function<void(const app::Monitor&)>& f, std::string*
             if (signal_seen()) return false;
             return call_progress(progress, event_dict(e), callback_error);
         };
-    {
-        Capture capture;
-        try {
-            py::gil_scoped_release release;
-            f(monitor);
-        } catch (...) {
-            failure = std::current_exception();
-        }
-        err = capture.err();
-        if (out) *out = capture.out();
+    try {
+        py::gil_scoped_release release;
+        f(monitor);
+    } catch (...) {
+        failure = std::current_exception();
     }
     if (callback_error) throw std::move(*callback_error);
-    warn(printed_warnings(err));
     if (failure) std::rethrow_exception(failure);
 }
 

@@ -89,7 +89,7 @@ void run_job(Request& request, const std::function<void(const app::Monitor&)>& f
     std::vector<std::string> warnings;
     request.on_warnings = [&warnings](const std::vector<std::string>& w) { warnings.insert(warnings.end(), w.begin(), w.end()); };
     try {
-        run_command(f, nullptr, progress);
+        run_command(f, progress);
     } catch (...) {
         warn(warnings);
         throw;
