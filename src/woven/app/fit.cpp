@@ -14,6 +14,7 @@
 #include "woven/app/files.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/common/error.hpp"
+#include "woven/common/format.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_checks.hpp"
@@ -27,13 +28,6 @@
 namespace woven::app {
 
 namespace {
-
-std::string g(double v, int digits = 6)
-{
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-    return buf;
-}
 
 /// One KES curve and its fit, with the units and names used in plots and text.
 struct CurveView {
@@ -67,19 +61,19 @@ std::string describe_fit(const CurveView& c)
 {
     std::ostringstream s;
     const auto& segs = c.fit->segments();
-    s << c.title << " (" << c.key << "): x " << g(c.data->x.front()) << " .. " << g(c.data->x.back()) << " " << c.x_unit
+    s << c.title << " (" << c.key << "): x " << format_g(c.data->x.front()) << " .. " << format_g(c.data->x.back()) << " " << c.x_unit
       << ", " << c.data->x.size() << " points, " << segs.size() << " segment" << (segs.size() == 1 ? "" : "s")
       << ", y = c0 + c1 x + c2 x^2 (x in " << c.x_unit << ", y in " << c.y_unit << ")\n";
     for (std::size_t k = 0; k < segs.size(); ++k) {
         const auto& sg = segs[k];
         const bool outer = k + 1 == segs.size();
-        const std::string end = std::isfinite(sg.x_end) ? g(sg.x_end, 4) : g(c.fit->data_max_x(), 4) + "..";
-        s << "  [" << g(sg.x_begin, 4) << ", " << end << "]  c0 " << g(sg.c0) << "  c1 " << g(sg.c1)
-          << "  c2 " << g(sg.c2) << (outer ? "  (outer line, extended linearly)" : "") << "\n";
+        const std::string end = std::isfinite(sg.x_end) ? format_g(sg.x_end, 4) : format_g(c.fit->data_max_x(), 4) + "..";
+        s << "  [" << format_g(sg.x_begin, 4) << ", " << end << "]  c0 " << format_g(sg.c0) << "  c1 " << format_g(sg.c1)
+          << "  c2 " << format_g(sg.c2) << (outer ? "  (outer line, extended linearly)" : "") << "\n";
     }
-    s << "  max fit error " << g(kes::max_fit_error(*c.fit, *c.data), 4) << " " << c.y_unit << "\n";
-    s << "  outer line slope " << g(c.fit->line().c1, 4) << " " << c.rigidity_unit << " vs KES " << c.rigidity_name
-      << " " << g(c.rigidity, 4) << " " << c.rigidity_unit << "\n";
+    s << "  max fit error " << format_g(kes::max_fit_error(*c.fit, *c.data), 4) << " " << c.y_unit << "\n";
+    s << "  outer line slope " << format_g(c.fit->line().c1, 4) << " " << c.rigidity_unit << " vs KES " << c.rigidity_name
+      << " " << format_g(c.rigidity, 4) << " " << c.rigidity_unit << "\n";
     return s.str();
 }
 
@@ -96,11 +90,11 @@ void bending_energy_outputs(const std::string& key, const std::string& title, co
         const double theta = lo + (hi - lo) * k / n;
         const double B = b.of_angle(theta);
         const double K = model::thread_curvature(theta, sigma_cm).K;
-        csv << g(theta, 10) << "," << g(B, 10) << "," << g(K, 10) << "\n";
+        csv << format_g(theta, 10) << "," << format_g(B, 10) << "," << format_g(K, 10) << "\n";
         s.x.push_back(theta);
         s.y.push_back(B);
     }
-    s.label = "B(theta), sigma = " + g(sigma_cm, 4) + " cm";
+    s.label = "B(theta), sigma = " + format_g(sigma_cm, 4) + " cm";
     render::Plot p;
     p.title = "Bending energy of one thread angle, " + title + " (Eq. 12, corrected Eq. 13)";
     p.x_label = "thread angle theta (rad; pi = straight)";
@@ -120,11 +114,11 @@ void trellis_energy_outputs(const model::TrellisEnergy& t, double sigma_cm, std:
     for (int k = 0; k <= n; ++k) {
         const double phi = hi * k / n;
         const double T = t.of_angle(phi).value;
-        csv << g(phi, 10) << "," << g(phi * 180.0 / std::numbers::pi, 10) << "," << g(T, 10) << "\n";
+        csv << format_g(phi, 10) << "," << format_g(phi * 180.0 / std::numbers::pi, 10) << "," << format_g(T, 10) << "\n";
         s.x.push_back(phi);
         s.y.push_back(T);
     }
-    s.label = "T(phi), sigma = " + g(sigma_cm, 4) + " cm";
+    s.label = "T(phi), sigma = " + format_g(sigma_cm, 4) + " cm";
     const double phi_e = t.last_measured_angle();
     // Clip the singular end (T -> inf at 1.05 rad) so the measured part stays readable.
     double y_max = t.of_angle(std::max(phi_e, 0.95)).value;
@@ -133,7 +127,7 @@ void trellis_energy_outputs(const model::TrellisEnergy& t, double sigma_cm, std:
     mark.x = {phi_e, phi_e};
     mark.y = {0.0, y_max};
     mark.color = Vec3(0.84, 0.15, 0.16);
-    mark.label = "phi_e = " + g(phi_e * 180.0 / std::numbers::pi, 3) + " deg (last measured angle)";
+    mark.label = "phi_e = " + format_g(phi_e * 180.0 / std::numbers::pi, 3) + " deg (last measured angle)";
     render::Series singular;
     singular.x = {model::TrellisEnergy::kSingularAngle, model::TrellisEnergy::kSingularAngle};
     singular.y = {0.0, y_max};
@@ -200,8 +194,8 @@ FitResult fit_and_write(const FitRequest& request)
          "gf/cm", "G", "gf/(cm.deg)", kv.G},
     };
     std::vector<Output> outputs;
-    std::string text = "fabric " + name + ": W " + g(kv.W, 4) + " mg/cm2; energies for sigma = " +
-                       g(sigma_cm, 4) + " cm\n";
+    std::string text = "fabric " + name + ": W " + format_g(kv.W, 4) + " mg/cm2; energies for sigma = " +
+                       format_g(sigma_cm, 4) + " cm\n";
     for (const auto& c : curves) {
         outputs.push_back({c.key + "_fit.png", "", fit_plot(c)});
         text += describe_fit(c);
@@ -209,8 +203,8 @@ FitResult fit_and_write(const FitRequest& request)
     bending_energy_outputs("bending_warp", "warp", warp, outputs);
     bending_energy_outputs("bending_weft", "weft", weft, outputs);
     trellis_energy_outputs(trellis, sigma_cm, outputs);
-    text += "trellis: phi_e " + g(trellis.last_measured_angle(), 4) + " rad, continuation T = a / (1.05 - phi) + b "
-            "with a " + g(trellis.continuation_a(), 4) + " J.rad, b " + g(trellis.continuation_b(), 4) + " J\n";
+    text += "trellis: phi_e " + format_g(trellis.last_measured_angle(), 4) + " rad, continuation T = a / (1.05 - phi) + b "
+            "with a " + format_g(trellis.continuation_a(), 4) + " J.rad, b " + format_g(trellis.continuation_b(), 4) + " J\n";
 
     // Every number written is finite (exit 1 and nothing published otherwise).
     for (const auto& o : outputs)

@@ -16,6 +16,7 @@
 #include "woven/app/progress.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/common/error.hpp"
+#include "woven/common/format.hpp"
 #include "woven/common/units.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
@@ -34,13 +35,6 @@
 namespace woven::app {
 
 namespace {
-
-std::string fmt(double v, int digits = 6)
-{
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-    return buf;
-}
 
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
@@ -200,8 +194,8 @@ void add_cantilever_files(KesRun& k, const std::vector<testers::CantileverResult
             el.y.push_back(r.elastica.z[e] * units::kMToCm);
         }
         sim.style = render::Series::Style::POINTS;
-        sim.label = "simulated " + direction + " (c " + fmt(r.bending_length * units::kMToCm, 4) + " cm)";
-        el.label = "elastica " + direction + " (c " + fmt(r.elastica_bending_length * units::kMToCm, 4) + " cm)";
+        sim.label = "simulated " + direction + " (c " + format_g(r.bending_length * units::kMToCm, 4) + " cm)";
+        el.label = "elastica " + direction + " (c " + format_g(r.elastica_bending_length * units::kMToCm, 4) + " cm)";
         p.series.push_back(el);
         p.series.push_back(sim);
     }

@@ -36,6 +36,7 @@
 #include "woven/batch/sweep.hpp"
 #include "woven/batch/sweep_parts.hpp"
 #include "woven/common/error.hpp"
+#include "woven/common/format.hpp"
 #include "woven/io/corner_map_file.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/input_file.hpp"
@@ -272,20 +273,13 @@ render::DrapeScene drape_scene(const Outcome& d, const io::SceneSpec& scene, con
     return scene_view(render::grid_surface(d.x, d.grid.nu, d.grid.nv), scene.obstacles, fabric, &scene.camera);
 }
 
-std::string fmt(const char* f, double v)
-{
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
-
 /// "1 (+49)" / "2 (-21, +19)" / "0" for one corner at one depth.
 std::string corner_cell(const std::vector<analysis::Billow>& b)
 {
     std::string s = std::to_string(b.size());
     if (b.empty()) return s;
     s += " (";
-    for (std::size_t k = 0; k < b.size(); ++k) s += (k ? ", " : "") + fmt("%+.0f", b[k].angle_deg);
+    for (std::size_t k = 0; k < b.size(); ++k) s += (k ? ", " : "") + strf("%+.0f", b[k].angle_deg);
     return s + ")";
 }
 
@@ -368,7 +362,7 @@ ExperimentResult run_cube(const ExperimentRequest& o)
     md << "# The cube experiment: corner folds\n\n" << provenance(o.command) << "\n\n";
     md << "The paper's Sec. 6: 1 m x 1 m cloth, " << runs[0][0].grid.nu << " x " << runs[0][0].grid.nv
        << " particles, over a 0.5 m cube; seeds 1.." << o.seeds << ". Each cell: billows leaving the corner on the section "
-       << fmt("%.2f", depths[0]) << " m below the top face, then on the one " << fmt("%.2f", depths[1])
+       << strf("%.2f", depths[0]) << " m below the top face, then on the one " << strf("%.2f", depths[1])
        << " m below, with each billow's direction from the corner's diagonal (degrees, counter-clockwise seen from above). "
        << "Corners: 0 (+x +y), 1 (-x +y), 2 (-x -y), 3 (+x -y); warp threads run along y, weft along x.\n\n";
     md << "| fabric | seed | converged | corner 0 | corner 1 | corner 2 | corner 3 |\n|---|---|---|---|---|---|---|\n";
@@ -384,10 +378,10 @@ ExperimentResult run_cube(const ExperimentRequest& o)
             }
             md << "\n";
         }
-    md << "\n## How often each corner structure appears\n\nOver all seeds and the four corners, on the section " << fmt("%.2f", depths[0])
-       << " m below the top. Only billows within " << fmt("%.0f", kCornerConeDeg)
+    md << "\n## How often each corner structure appears\n\nOver all seeds and the four corners, on the section " << strf("%.2f", depths[0])
+       << " m below the top. Only billows within " << strf("%.0f", kCornerConeDeg)
        << " degrees of the corner's diagonal count as leaving the corner (further round a billow stands in front of a side: "
-       << "a wave of the side's panel); a single one counts as on the diagonal within " << fmt("%.0f", kDiagonalToleranceDeg)
+       << "a wave of the side's panel); a single one counts as on the diagonal within " << strf("%.0f", kDiagonalToleranceDeg)
        << " degrees of it:\n\n";
     md << "| fabric | corners | single, on the diagonal | single, off the diagonal | two or more folds | none | mean angle of single "
           "billows (deg) | mean abs angle (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
@@ -404,10 +398,10 @@ ExperimentResult run_cube(const ExperimentRequest& o)
         std::map<Structure, int>& count = counts.count;
         const int corners = counts.corners, singles = counts.singles;
         const double sum = counts.sum_angle_deg, sum_abs = counts.sum_abs_angle_deg;
-        auto pct = [&](Structure s) { return corners ? fmt("%.0f %%", 100.0 * count[s] / corners) : std::string("-"); };
+        auto pct = [&](Structure s) { return corners ? strf("%.0f %%", 100.0 * count[s] / corners) : std::string("-"); };
         md << "| " << o.fabrics[f] << " | " << corners << " | " << pct(Structure::SINGLE_DIAGONAL) << " | " << pct(Structure::SINGLE_OFFSET)
-           << " | " << pct(Structure::MULTIPLE) << " | " << pct(Structure::NONE) << " | " << (singles ? fmt("%+.1f", sum / singles) : "-")
-           << " | " << (singles ? fmt("%.1f", sum_abs / singles) : "-") << " | " << distinct << " of " << energies.size() << " |\n";
+           << " | " << pct(Structure::MULTIPLE) << " | " << pct(Structure::NONE) << " | " << (singles ? strf("%+.1f", sum / singles) : "-")
+           << " | " << (singles ? strf("%.1f", sum_abs / singles) : "-") << " | " << distinct << " of " << energies.size() << " |\n";
         stats[o.fabrics[f]] = {{"corners", corners},
                                {"single_diagonal", count[Structure::SINGLE_DIAGONAL]},
                                {"single_offset", count[Structure::SINGLE_OFFSET]},
@@ -517,23 +511,23 @@ std::string map_markdown(const ExperimentRequest& o, const std::vector<MapCell>&
     md << "Synthetic fabrics with the cotton's W (" << cv.W << " mg/cm2) and shear (G " << cv.G
        << " gf/(cm.deg)), bending from the bending length c and the warp/weft ratio; one drape each (seed 1) over the cube, "
        << "section 0.10 m below the top. Cell: the structure most corners show, the mean count per corner of billows leaving it (within "
-       << fmt("%.0f", kCornerConeDeg)
+       << strf("%.0f", kCornerConeDeg)
        << " degrees of the diagonal), the mean |angle| of single ones from the diagonal; the last column lists every billow in each "
           "corner's quadrant.\n\n";
     md << "| warp/weft | c (cm) | B warp | B weft | structure | billows/corner | mean abs angle (deg) | corners (count (angles)) "
           "|\n|---|---|---|---|---|---|---|---|\n";
     for (const MapCell& c : cells) {
         const double B = std::pow(c.length, 3) * cv.W * 1e-3;
-        md << "| " << fmt("%.3g", c.ratio) << " | " << fmt("%.2g", c.length) << " | " << fmt("%.3g", B * std::sqrt(c.ratio)) << " | "
-           << fmt("%.3g", B / std::sqrt(c.ratio)) << " | " << structure_name(c.majority) << (c.converged ? "" : " (not converged)") << " | "
-           << fmt("%.2f", c.mean_billows) << " | " << fmt("%.0f", c.mean_abs_angle) << " |";
+        md << "| " << strf("%.3g", c.ratio) << " | " << strf("%.2g", c.length) << " | " << strf("%.3g", B * std::sqrt(c.ratio)) << " | "
+           << strf("%.3g", B / std::sqrt(c.ratio)) << " | " << structure_name(c.majority) << (c.converged ? "" : " (not converged)") << " | "
+           << strf("%.2f", c.mean_billows) << " | " << strf("%.0f", c.mean_abs_angle) << " |";
         for (const auto& b : c.corners) md << " " << corner_cell(b);
         md << " |\n";
     }
     md << "\nThe paper's fabrics on the map:\n\n| fabric | c (cm) | warp/weft |\n|---|---|---|\n";
     for (std::size_t f = 0; f < paper.size(); ++f) {
         const auto [len, ratio] = map_position(paper[f]);
-        md << "| " << o.fabrics[f] << " | " << fmt("%.2f", len) << " | " << fmt("%.2f", ratio) << " |\n";
+        md << "| " << o.fabrics[f] << " | " << strf("%.2f", len) << " | " << strf("%.2f", ratio) << " |\n";
     }
     md << "\n![corner map](corner_map.png)\n";
     return md.str();
@@ -567,7 +561,7 @@ ExperimentResult run_map(const ExperimentRequest& o)
         for (const auto& cell : reused->cells)
             if (std::abs(cell.ratio_warp_weft - r) < 1e-9 * r && std::abs(cell.bending_length_cm - c) < 1e-9 * c) return cell;
         throw InputError(o.reuse->string(), "cells",
-                         "no drape for ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm (use the same --map-grid)");
+                         "no drape for ratio " + strf("%.3g", r) + ", length " + strf("%.3g", c) + " cm (use the same --map-grid)");
     };
     if (reused)
         for (double r : ratios)
@@ -584,17 +578,17 @@ ExperimentResult run_map(const ExperimentRequest& o)
     std::vector<batch::SweepPoint> points;
     if (!o.reuse) {
         std::string plan = plan_head("map", "The corner map: synthetic fabrics (cotton's W and shear) of warp/weft bending ratio " +
-                                                fmt("%.3g", ratios.front()) + " .. " + fmt("%.3g", ratios.back()) + " by bending length " +
-                                                fmt("%.3g", lengths.front()) + " .. " + fmt("%.3g", lengths.back()) + " cm over the cube") +
+                                                strf("%.3g", ratios.front()) + " .. " + strf("%.3g", ratios.back()) + " by bending length " +
+                                                strf("%.3g", lengths.front()) + " .. " + strf("%.3g", lengths.back()) + " cm over the cube") +
             "\n[axes]\nfabric = [\n";
         std::vector<std::pair<std::string, std::string>> files;
         std::vector<std::string> what;
         for (double r : ratios)
             for (double c : lengths) {
-                const std::string name = "fabrics/ratio-" + fmt("%.3g", r) + "_length-" + fmt("%.3g", c) + ".toml";
+                const std::string name = "fabrics/ratio-" + strf("%.3g", r) + "_length-" + strf("%.3g", c) + ".toml";
                 files.emplace_back(name, synthetic_fabric(r, c, cv.W, cv.G));
                 plan += "  \"" + name + "\",\n";
-                what.push_back("cube, ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm, seed 1");
+                what.push_back("cube, ratio " + strf("%.3g", r) + ", length " + strf("%.3g", c) + " cm, seed 1");
             }
         plan += "]\n" + plan_options(o, true, true);
         pr = run_experiment_plan(o, *place, plan, files, what);
@@ -615,7 +609,7 @@ ExperimentResult run_map(const ExperimentRequest& o)
                 d.converged = rc.converged;
                 for (int k = 0; k < 4; ++k) corner_billows[k] = rc.corners[k];
             } else {
-                d = read_outcome(pr->dir, points[next++], "ratio " + fmt("%.3g", r) + ", length " + fmt("%.3g", c) + " cm", false);
+                d = read_outcome(pr->dir, points[next++], "ratio " + strf("%.3g", r) + ", length " + strf("%.3g", c) + " cm", false);
                 jc = outcome_json(d);
                 if (d.has_folds() && !d.sections.empty())
                     for (int k = 0; k < 4; ++k) corner_billows[k] = d.sections[0][k];
@@ -688,7 +682,7 @@ ExperimentResult run_figure1(const ExperimentRequest& o)
         const std::string png = "figure1_" + name + ".png";
         set.add(png, render::encode_png(render_view(ds, render::View::SCENE, 1024, 768, png), join_path(out_dir, png)));
         md << "| " << name << " (" << scene.fabric << ", " << d.grid.nu << " x " << d.grid.nv << ") | " << (d.converged ? "yes" : "no")
-           << " | " << d.steps << " | " << fmt("%.0f", d.wall_s) << " |\n";
+           << " | " << d.steps << " | " << strf("%.0f", d.wall_s) << " |\n";
         runs.push_back(outcome_json(d));
         runs.back()["scene"] = name;
     }

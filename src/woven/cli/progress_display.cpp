@@ -1,4 +1,5 @@
 #include "woven/cli/progress_display.hpp"
+#include "woven/common/format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,13 +18,6 @@ std::string bar(double fraction, int width)
 {
     const int filled = static_cast<int>(std::lround(std::clamp(fraction, 0.0, 1.0) * width));
     return "[" + std::string(static_cast<std::size_t>(filled), '#') + std::string(static_cast<std::size_t>(width - filled), '.') + "]";
-}
-
-std::string format(const char* fmt, double a)
-{
-    char buf[64];
-    std::snprintf(buf, sizeof buf, fmt, a);
-    return buf;
 }
 
 extern "C" void on_signal(int sig)
@@ -171,8 +165,8 @@ void ProgressDisplay::on_activity(const app::ProgressEvent& e)
     const auto last = activities_.find(e.activity);
     if (last != activities_.end() && e.wall_s - last->second < (tty_ ? 0.1 : 2.0)) return;
     activities_[e.activity] = e.wall_s;
-    const std::string percent = format("%.0f %%", 100 * e.fraction);
-    const std::string time = format("%.1f s", e.wall_s);
+    const std::string percent = strf("%.0f %%", 100 * e.fraction);
+    const std::string time = strf("%.1f s", e.wall_s);
     if (tty_) {
         const std::string line =
             bar(e.fraction, 20) + " " + e.label + ": " + percent + (e.detail.empty() ? "" : " " + e.detail) + ", " + time;
@@ -189,7 +183,7 @@ void ProgressDisplay::on_activity_end(const app::ProgressEvent& e)
     const auto drew = activities_.find(e.activity);
     if (drew == activities_.end()) return;
     activities_.erase(drew);
-    const std::string took = format("done in %.1f s", e.wall_s);
+    const std::string took = strf("done in %.1f s", e.wall_s);
     if (tty_)
         std::fprintf(out_, "\r%s\033[K\n", fit_line(bar(1, 20) + " " + e.label + ": " + took, columns()).c_str());
     else

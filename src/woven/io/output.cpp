@@ -18,26 +18,13 @@
 #include <unistd.h>
 
 #include "woven/common/error.hpp"
+#include "woven/common/format.hpp"
 #include "woven/geometry/mesh_ops.hpp"
 #include "woven/io/output_set.hpp"
 
 namespace woven::io {
 
 namespace {
-
-/// printf-style formatting into a std::string (GCC 12 has no std::format).
-[[gnu::format(printf, 1, 2)]] std::string strf(const char* fmt, ...)
-{
-    va_list a, b;
-    va_start(a, fmt);
-    va_copy(b, a);
-    const int n = std::vsnprintf(nullptr, 0, fmt, a);
-    va_end(a);
-    std::string s(n > 0 ? n : 0, '\0');
-    if (n > 0) std::vsnprintf(s.data(), s.size() + 1, fmt, b);
-    va_end(b);
-    return s;
-}
 
 void check_grid(const Positions& x, int nu, int nv, const char* what)
 {

@@ -8,18 +8,12 @@
 #include <iomanip>
 #include <sstream>
 
+#include "woven/common/format.hpp"
 #include "woven/render/figure.hpp"
 
 namespace woven::render {
 
 namespace {
-
-std::string fmt(const char* f, double v)
-{
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
 
 }  // namespace
 
@@ -157,7 +151,7 @@ Image corner_map_picture(const std::vector<MapCellView>& cells, const std::vecto
         const int ri = static_cast<int>(k) / nc, ci = static_cast<int>(k) % nc;
         const int x0 = left + ci * cw, y0 = top + (nr - 1 - ri) * ch;  // ratio grows upwards
         fill_rect(img, x0 + 2, y0 + 2, x0 + cw - 2, y0 + ch - 2, colour[c.structure & 3]);
-        std::string t = fmt("billows %.2f", c.mean_billows) + "\n" + (c.mean_abs_angle_deg > 0 ? fmt("%.0f deg off", c.mean_abs_angle_deg) : std::string("")) +
+        std::string t = strf("billows %.2f", c.mean_billows) + "\n" + (c.mean_abs_angle_deg > 0 ? strf("%.0f deg off", c.mean_abs_angle_deg) : std::string("")) +
                         (c.converged ? "" : "\nnot converged");
         Box b = text_box(t, x0 + 10, y0 + 10);
         const auto on_a_mark = [&](const Box& box) { return std::any_of(marks.begin(), marks.end(), [&](const Mark& m) { return m.dot.hits(box); }); };
@@ -184,8 +178,8 @@ Image corner_map_picture(const std::vector<MapCellView>& cells, const std::vecto
         draw_label(img, m.name, label.x0 + 3, label.y0 + 3, 2);
     }
     for (std::size_t f = 0; f < marks.size(); ++f) fill_disc(img, marks[f].px, marks[f].py, 4.5, mark_list[f].colour);
-    for (int ri = 0; ri < nr; ++ri) draw_label(img, fmt("%.3g", ratios[ri]), 20, top + (nr - 1 - ri) * ch + ch / 2 - 7, 2);
-    for (int ci = 0; ci < nc; ++ci) draw_label(img, fmt("%.2g cm", lengths[ci]), left + ci * cw + cw / 2 - 25, top + nr * ch + 8, 2);
+    for (int ri = 0; ri < nr; ++ri) draw_label(img, strf("%.3g", ratios[ri]), 20, top + (nr - 1 - ri) * ch + ch / 2 - 7, 2);
+    for (int ci = 0; ci < nc; ++ci) draw_label(img, strf("%.2g cm", lengths[ci]), left + ci * cw + cw / 2 - 25, top + nr * ch + 8, 2);
     draw_label(img, "warp/weft", 10, top - 25, 2);
     draw_label(img, "bending length c = (B/W)^(1/3), B = sqrt(B_warp B_weft)", left, top + nr * ch + 30, 2);
     int ly = top + nr * ch + 60, lx = left;
