@@ -22,4 +22,5 @@ PYBIND11_MODULE(_woven, m)
     bind_fabric_scene(m);
     bind_drape(m);
     bind_testers(m);
+    bind_garment(m);
 }

@@ -32,6 +32,7 @@ from ._woven import (
     drape,
     fabrics,
     fit,
+    garment,
     kes_test,
     scenes,
 )
@@ -50,6 +51,7 @@ __all__ = [
     "drape",
     "fabrics",
     "fit",
+    "garment",
     "kes_test",
     "scenes",
 ]
