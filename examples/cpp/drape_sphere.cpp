@@ -12,8 +12,8 @@
 #include "woven/geometry/primitives.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/model/cloth_model.hpp"
-#include "woven/sim/drape.hpp"
 #include "woven/sim/contact.hpp"
+#include "woven/sim/drape.hpp"
 #include "woven/testers/drape_model.hpp"
 
 int main(int argc, char** argv)
