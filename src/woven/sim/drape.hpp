@@ -49,7 +49,14 @@ struct LineSearchOptions {
 struct FastSolverOptions {
     int max_newton_iterations = 120;  ///< per step; a step that needs more is halved
     double static_time_step = 1.0;    ///< s: from this step on, Newton is solved to the final tolerance
-    double step_growth = 2.0;         ///< step factor after a converged Newton solve
+    double step_growth = 2.0;         ///< step factor after a converged Newton solve (after the fall)
+    /// s: the fall. Until this much simulated time has passed the steps stay at the first step's
+    /// size (SolverOptions::time_step), then they grow by step_growth; 0 (the default): they grow
+    /// from the first step. Backward Euler's numerical damping grows with the step, so this
+    /// chooses how much of the falling cloth's swing survives, and with it which of the cube's
+    /// nearly equal rest states a drape lands in; measured in docs/SOLVER.md "The fall", where
+    /// no step size gave the paper's cotton/wool/polyester-cotton contrast.
+    double fall_duration = 0.0;
     double damping = 2.0;             ///< 1/s: viscous medium, v <- v / (1 + damping h)
     double dynamic_tolerance = 0.1;   ///< Newton tolerance of dynamic steps, residual force / (m g)
     /// a dynamic step's Newton has also converged when no particle moves more than this, in
@@ -146,7 +153,7 @@ public:
     static ClothRef evolving(model::ClothModel& model)
     {
         ClothRef r(&model);
-        r.evolving_ = true;
+        r.writable_ = &model;
         return r;
     }
     const model::ClothModel* get() const { return model_; }
@@ -154,11 +161,11 @@ public:
     const model::ClothModel* operator->() const { return model_; }
     explicit operator bool() const { return model_ != nullptr; }
     /// The model whose slip states the solver updates; null when read-only.
-    model::ClothModel* evolving_model() const { return evolving_ ? const_cast<model::ClothModel*>(model_) : nullptr; }
+    model::ClothModel* evolving_model() const { return writable_; }
 
 private:
     const model::ClothModel* model_ = nullptr;
-    bool evolving_ = false;  ///< only `evolving`, from a writable model, sets it
+    model::ClothModel* writable_ = nullptr;  ///< only `evolving`, from a writable model, sets it
 };
 
 /// What to drape: the model, the obstacles, the start and the pinned particles.
@@ -194,7 +201,7 @@ struct IterationInfo {
 };
 using IterationCallback = std::function<bool(const IterationInfo&)>;
 
-/// Equilibrium measures of a state (MODEL-NOTES/issue: two numbers).
+/// Equilibrium measures of a state: two numbers.
 struct Equilibrium {
     double max_move = 0;          ///< m, over the last step
     double max_residual_rel = 0;  ///< largest |F_i| / (m g) over free particles (g: standard gravity when the
@@ -231,7 +238,7 @@ inline void add_counters(Result& total, const Result& more)
     total.wall_time += more.wall_time;
 }
 
-/// Runs the chosen solver to equilibrium (or max_steps, or until a callback says stop). With
+/// Runs the chosen solver (sim::Solver, solver.hpp: this is a loop over its step()) to equilibrium (or max_steps, or until a callback says stop). With
 /// options.threads > 0, oneTBB and OpenMP run on that many threads during the call; the BLAS on
 /// one; the process-wide counts are restored on return. Threads evaluate the model's local
 /// terms (the same bits on any count) and, from two threads on a large grid, factorise the two
