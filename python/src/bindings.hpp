@@ -61,6 +61,11 @@ nlohmann::json to_values(py::handle value, const std::string& source);
 py::object to_python(const nlohmann::json& j);
 /// The text a command line would carry for an option's value: None -> nullopt, str as is,
 /// os.PathLike as its path, anything else as str(value) (repr for a float, which reads back).
+/// An InputError's message as Python shows it: a field named by a command-line option of the
+/// command line ("command line: --max-steps: ...") is named by its keyword ("max_steps: ...").
+std::string python_message(const InputError& e);
+/// The keyword of a command-line option: "--max-steps" -> "max_steps".
+std::string keyword_of(const std::string& option);
 std::optional<std::string> option_text(py::handle value);
 /// The typed value of an option given as a Python value (its text, as option_text): None ->
 /// nullopt; InputError "command line: <option>: expected ..." as the command's own for a value

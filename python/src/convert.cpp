@@ -1,5 +1,6 @@
 // Python values to woven's and back, warnings, and a command's code run from Python (bindings.hpp).
 #include <chrono>
+#include <limits>
 #include <mutex>
 #include <string_view>
 
@@ -122,32 +123,73 @@ std::optional<std::string> option_text(py::handle v)
     return py::str(v).cast<std::string>();
 }
 
+std::string keyword_of(const std::string& option)
+{
+    std::string k = option.rfind("--", 0) == 0 ? option.substr(2) : option;
+    for (char& c : k)
+        if (c == '-') c = '_';
+    return k;
+}
+
+std::string python_message(const InputError& e)
+{
+    if (e.source() != app::kCommandLine || e.field().rfind("--", 0) != 0) return e.what();
+    const std::string prefix = e.source() + ": " + e.field() + ": ";
+    const std::string what = e.what();
+    return keyword_of(e.field()) + ": " + (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+}
+
+namespace {
+
+/// A Python int (not a bool) as it is; nullopt for any other type or one beyond 64 bits.
+std::optional<long long> python_integer(py::handle v)
+{
+    if (!PyLong_Check(v.ptr()) || PyBool_Check(v.ptr())) return std::nullopt;
+    int overflow = 0;
+    const long long value = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    if (overflow != 0) return std::nullopt;  // read as text: the message shows the value given
+    return value;
+}
+
+/// A Python int or float as a double; nullopt for any other type.
+std::optional<double> python_number(py::handle v)
+{
+    if (PyBool_Check(v.ptr())) return std::nullopt;
+    if (PyFloat_Check(v.ptr())) return PyFloat_AsDouble(v.ptr());
+    if (PyLong_Check(v.ptr())) return v.cast<double>();
+    return std::nullopt;
+}
+
+}  // namespace
+
+// Typed values go to the range checks as they are (no text); a string is read as the command
+// reads its option's text.
 std::optional<long long> integer_arg(py::handle v, const std::string& option, long long lo, long long hi)
 {
-    const std::optional<std::string> text = option_text(v);
-    if (!text) return std::nullopt;
-    return app::integer_from_text(*text, option, lo, hi);
+    if (v.is_none()) return std::nullopt;
+    if (const auto i = python_integer(v)) return app::integer_in_range(*i, option, lo, hi);
+    return app::integer_from_text(*option_text(v), option, lo, hi);
 }
 
 std::optional<std::uint64_t> seed_arg(py::handle v, const std::string& option)
 {
-    const std::optional<std::string> text = option_text(v);
-    if (!text) return std::nullopt;
-    return app::seed_from_text(*text, option);
+    if (v.is_none()) return std::nullopt;
+    if (const auto i = python_integer(v); i && *i >= 0) return static_cast<std::uint64_t>(*i);
+    return app::seed_from_text(*option_text(v), option);
 }
 
 std::optional<double> number_arg(py::handle v, const std::string& option, double lo, double hi)
 {
-    const std::optional<std::string> text = option_text(v);
-    if (!text) return std::nullopt;
-    return app::number_from_text(*text, option, lo, hi);
+    if (v.is_none()) return std::nullopt;
+    if (const auto x = python_number(v)) return app::number_in_range(*x, option, lo, hi);
+    return app::number_from_text(*option_text(v), option, lo, hi);
 }
 
 std::optional<double> positive_arg(py::handle v, const std::string& option, double hi)
 {
-    const std::optional<std::string> text = option_text(v);
-    if (!text) return std::nullopt;
-    return app::positive_from_text(*text, option, hi);
+    if (v.is_none()) return std::nullopt;
+    if (const auto x = python_number(v)) return app::positive_in_range(*x, option, hi);
+    return app::positive_from_text(*option_text(v), option, hi);
 }
 
 FabricArg fabric_arg(py::handle fabric)

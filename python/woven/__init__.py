@@ -16,7 +16,7 @@ or a built-in (load), or made from values with the files' keys; woven.Obstacle: 
 box, sphere, cylinder, disc or plane for a scene's obstacle list. woven.Drape: a drape stepped
 from Python, its obstacles movable between steps. woven.kes_test, woven.cusick,
 woven.fit: the virtual instruments. Bad input raises woven.InputError (a ValueError) with the
-command's message; inputs read with a warning give woven.InputWarning.
+command's message, a value named by its keyword (grid: ...); inputs read with a warning give woven.InputWarning.
 """
 from ._woven import (
     Drape,
