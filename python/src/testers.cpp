@@ -165,7 +165,8 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
     r.search = search;
     if (!modes.is_none()) {  // a list of fold counts; the job checks them (and that search is on)
         if (py::isinstance<py::str>(modes) || !py::isinstance<py::iterable>(modes))
-            throw InputError(app::kCommandLine, "--modes", "expected a list of fold counts such as [3, 5, 7], got " + py::repr(modes).cast<std::string>());
+            throw InputError(app::kCommandLine, "--modes",
+                             "expected a list of fold counts such as [3, 5, 7], got " + py::repr(modes).cast<std::string>());
         std::vector<int> m;
         for (py::handle h : modes) m.push_back(static_cast<int>(*integer_arg(h, "--modes", 2, 64)));
         r.modes = std::move(m);

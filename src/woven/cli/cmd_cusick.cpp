@@ -132,19 +132,19 @@ void add_cusick_command(CLI::App& app, int& exit_code)
     sub->add_option("--specimen-cm", o->specimen_cm, "Specimen diameter, cm (the standard's 30; 24 and 36 are also used)")
         ->capture_default_str()
         ->type_name(positive_type(kCusickMaxDiameter_cm));
-    sub->add_option("--disc-cm", o->disc_cm, "Support disc diameter, cm")->capture_default_str()
+    sub->add_option("--disc-cm", o->disc_cm, "Support disc diameter, cm")
+        ->capture_default_str()
         ->type_name(positive_type(kCusickMaxDiameter_cm));
     sub->add_option("--spacing-cm", o->spacing_cm, "Particle spacing, cm (default 0.5: where the drape coefficient has converged)")
         ->type_name(positive_type(kCusickMaxSpacing_cm));
-    sub->add_option("--seeds", o->seeds, "Runs, each from a different small random perturbation of the flat start")->capture_default_str()
+    sub->add_option("--seeds", o->seeds, "Runs, each from a different small random perturbation of the flat start")
+        ->capture_default_str()
         ->type_name(int_type(kCusickSeedsRange));
-    sub->add_option("--seed", o->seed, "Seed of the first run (the others: seed + 1, ...)")->capture_default_str()
-        ->type_name(kSeedType);
-    sub->add_option("--threads", o->threads, "Worker threads (0: all cores)")
-        ->type_name(int_type(kCusickThreadsRange));
-    sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)")
-        ->type_name(int_type(kCusickMaxStepsRange));
-    sub->add_option("--shear-law", o->shear_law, "deembedded (the default: the material's law, docs/VALIDATION.md) or measured (the input curve as read)")
+    sub->add_option("--seed", o->seed, "Seed of the first run (the others: seed + 1, ...)")->capture_default_str()->type_name(kSeedType);
+    sub->add_option("--threads", o->threads, "Worker threads (0: all cores)")->type_name(int_type(kCusickThreadsRange));
+    sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)")->type_name(int_type(kCusickMaxStepsRange));
+    sub->add_option("--shear-law", o->shear_law,
+                    "deembedded (the default: the material's law, docs/VALIDATION.md) or measured (the input curve as read)")
         ->type_name(choice_type(model::kShearLawNames));
     sub->add_option("--clamp", o->clamp,
                     "pinned (the default: the particles within the disc's radius + --clamp-margin spacings pinned) or discs "
@@ -166,8 +166,7 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                     "After the protocol, this many cycles of a quasi-static vertical shake of the disc (to rest at 1.5 g, at "
                     "0.5 g, in the clamp's frame), then to rest at g (default 0)")
         ->type_name(int_type(kCusickShakesRange));
-    sub->add_option("--bias", o->bias, kBiasBendingHelp)
-        ->type_name(choice_type(model::kBiasBendingNames));
+    sub->add_option("--bias", o->bias, kBiasBendingHelp)->type_name(choice_type(model::kBiasBendingNames));
     sub->add_option("--start", o->start, "Start from this cusick.obj (of the same specimen and spacing) instead of the flat start");
     sub->add_flag("--search", o->search,
                   "Search the rest states: the release, one start per guide count (--modes: the overhang first falls onto "

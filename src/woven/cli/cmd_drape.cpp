@@ -100,12 +100,14 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("SCENE", o->scene, "A built-in scene name (see `woven scenes`) or a scene .toml file")
         ->capture_default_str();
     sub->add_option("--fabric", o->fabric, "Fabric: a built-in name or a fabric .toml file (overrides the scene's)");
-    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)")->type_name(int_type(kGridRange));
+    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)")
+        ->type_name(int_type(kGridRange));
     sub->add_option("--solver", o->solver, "Solver: fast (implicit steps, projected Newton) or paper (Sec. 3)")
         ->type_name(choice_type(sim::kSolverKindNames));
     sub->add_option("--seed", o->seed, "Random seed: the fast solver's start perturbation (--perturb), the paper solver's stochastic phase")
         ->type_name(kSeedType);
-    sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)")->type_name(int_type(0, io::kMaxThreads));
+    sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)")
+        ->type_name(int_type(0, io::kMaxThreads));
     sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)")->type_name(int_type(kMaxStepsRange));
     sub->add_option("--perturb", o->perturb,
                     "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)")
