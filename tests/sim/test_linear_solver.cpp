@@ -209,8 +209,10 @@ TEST(NewtonLinearSolver, SplitsALargeFactorisationOnAnyThreadCountInTheSameBits)
         solver.solve(lower, b, x);
         EXPECT_TRUE(solver.split_factorization()) << threads << " threads";
         EXPECT_LT((full * x - b).norm(), 1e-10 * b.norm()) << threads << " threads";
-        if (threads == 1) on_one = x;
-        else EXPECT_EQ((x - on_one).cwiseAbs().maxCoeff(), 0.0);  // the same bits
+        if (threads == 1)
+            on_one = x;
+        else
+            EXPECT_EQ((x - on_one).cwiseAbs().maxCoeff(), 0.0);  // the same bits
     }
 }
 
