@@ -154,6 +154,11 @@ TYPED_HELP = [
     ("cusick", "--clamp", "{pinned,discs}", None),
     ("cusick", "--protocol", "{release,lowered}", None),
     ("cusick", "--shear-law", "{deembedded,measured}", None),
+    ("kes-test", "--sigma-cm", "NUMBER in [0.02, 2]", "5"),
+    ("kes-test", "--test", "{cantilever,bending,shear,all}", None),
+    ("kes-test", "--bending-form", "{work,secant}", None),
+    ("kes-test", "--threads", "INT in [0, 4096]", "-1"),
+    ("fit", "--sigma-cm", "NUMBER in [0.01, 100]", "0"),
 ]
 
 
@@ -163,7 +168,7 @@ def test_help_shows_each_number_and_choice_with_its_type_and_range(tmp_path, com
     assert code == 0, err
     assert re.search(r"^\s+" + re.escape(option) + r" " + re.escape(shown) + r"(=\S+)?(\s|$)", out, re.M), out
     # The range --help shows is the one the value is checked against (woven's own error).
-    args = [command] + (["cotton"] if command == "cusick" else ["cube"]) + [option, bad if bad else "nope"]
+    args = [command] + (["cube"] if command == "drape" else ["cotton"]) + [option, bad if bad else "nope"]
     code, out, err = woven(*args, cwd=tmp_path)
     assert code == 2, err
     if bad:
