@@ -129,7 +129,9 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
     sub->add_option("--test", options->test, "cantilever, bending, shear or all")
         ->capture_default_str()
         ->type_name(choice_type(kKesTestsNames));
-    sub->add_option("--direction", options->direction, "warp, weft or both")->capture_default_str()->type_name(choice_type(kKesDirectionsNames));
+    sub->add_option("--direction", options->direction, "warp, weft or both")
+        ->capture_default_str()
+        ->type_name(choice_type(kKesDirectionsNames));
     sub->add_option("--sigma-cm", options->sigma_cm,
                     "Particle spacing of the specimens, cm (default: cantilever 0.25, bending 0.1, shear 0.25)")
         ->type_name(number_type(kKesSigmaRange_cm[0], kKesSigmaRange_cm[1]));
@@ -140,8 +142,9 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
         ->type_name(choice_type(kBendingFormNames));
     sub->add_option("--discretization", options->discretization, "convergent or paper (default: the model's, convergent)")
         ->type_name(choice_type(model::kDiscretizationNames));
-    sub->add_option("--shear-law", options->shear_law,
-                    "deembedded (the material's law, raised by the FB1 specimen's end effect: the default) or measured (the input curve as read)")
+    sub->add_option(
+           "--shear-law", options->shear_law,
+           "deembedded (the material's law, raised by the FB1 specimen's end effect: the default) or measured (the input curve as read)")
         ->type_name(choice_type(model::kShearLawNames));
     sub->add_option("--hysteresis", options->hysteresis,
                     "friction (the default here: the mean line plus friction elements, full KES loops) or loading-branch (the loading "
