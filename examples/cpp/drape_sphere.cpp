@@ -5,13 +5,16 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "woven/common/error.hpp"
 #include "woven/geometry/primitives.hpp"
 #include "woven/io/fabric_file.hpp"
 #include "woven/model/cloth_model.hpp"
-#include "woven/sim/drape.hpp"
 #include "woven/sim/contact.hpp"
+#include "woven/sim/drape.hpp"
+#include "woven/testers/drape_model.hpp"
 
 int main(int argc, char** argv)
 {
@@ -25,7 +28,9 @@ int main(int argc, char** argv)
         // A 0.5 m square of cotton, n x n particles, 5 mm above a 0.3 m sphere on the floor.
         const kes::FabricData cotton = io::find_fabric("cotton");
         const model::Grid grid{n, n, 0.5 / (n - 1)};
-        const model::ClothModel cloth = model::make_cloth_model(cotton, grid, model::ModelOptions{});
+        // The command's model: the shear law de-embedded as `woven drape` does it.
+        std::vector<std::string> warnings;
+        const model::ClothModel cloth = testers::make_drape_model(cotton, grid, model::ModelOptions{}, warnings);
 
         geometry::ObstacleSet obstacles;
         obstacles.add(std::make_unique<geometry::Plane>(Vec3::Zero(), Vec3::UnitZ()));

@@ -14,6 +14,7 @@
 #include "woven/io/output_checks.hpp"
 #include "woven/io/sha256.hpp"
 #include "woven/io/values.hpp"
+#include "woven/sim/solver.hpp"
 
 namespace woven::python {
 
@@ -51,7 +52,8 @@ py::array_t<std::int32_t> faces_array(const DrapeResult& r)
 /// builds them (app::prepare_drape). Call with a CallLock held.
 std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed,
                                              py::object threads, py::object max_steps, py::object perturb, py::object hysteresis,
-                                             py::object bias = py::none(), py::object initial_positions = py::none())
+                                             py::object bias = py::none(), py::object initial_positions = py::none(),
+                                             const char* caller = "drape()")
 {
     app::DrapeRequest in;
     std::vector<std::string> warnings;
@@ -82,7 +84,7 @@ std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric
     if (!initial_positions.is_none()) {  // an (n, 3) array of positions in m
         const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(initial_positions);
         if (!a || a.ndim() != 2 || a.shape(1) != 3)
-            throw py::type_error("drape(): initial_positions must be an (n, 3) array of positions in m, n the grid's particles");
+            throw py::type_error(std::string(caller) + ": initial_positions must be an (n, 3) array of positions in m, n the grid's particles");
         Positions x(static_cast<std::size_t>(a.shape(0)));
         const auto v = a.unchecked<2>();
         for (py::ssize_t k = 0; k < a.shape(0); ++k) x[static_cast<std::size_t>(k)] = Vec3(v(k, 0), v(k, 1), v(k, 2));
@@ -205,63 +207,67 @@ DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::obje
     return r;
 }
 
-/// woven.Drape: a drape stepped from Python (app::SteppedDrape), its obstacles replaceable
-/// between steps.
+/// woven.Drape: a drape stepped from Python, on the solver object (sim::Solver) itself.
 struct Stepper {
     std::shared_ptr<app::DrapeSetup> setup;
-    std::unique_ptr<app::SteppedDrape> run;  ///< after setup: it holds a reference to it
-    bool changed = false;                    ///< the obstacles changed since the last step
-    double changed_residual = 0;             ///< the residual against the new obstacles
+    std::unique_ptr<sim::Solver> solver;  ///< after setup: its problem points into it
 };
 
 std::shared_ptr<Stepper> make_stepper(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed,
-                                      py::object threads, py::object max_steps, py::object perturb, py::object hysteresis)
+                                      py::object threads, py::object max_steps, py::object perturb, py::object hysteresis,
+                                      py::object bias, py::object initial_positions)
 {
     const CallLock lock;
     auto st = std::make_shared<Stepper>();
-    st->setup = setup_drape(scene, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis);
-    st->run = std::make_unique<app::SteppedDrape>(*st->setup);
+    st->setup = setup_drape(scene, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis, bias, initial_positions, "Drape()");
+    run_command([&](const app::Monitor&) { st->solver = sim::make_solver(st->setup->problem, st->setup->scene.solver); });
     return st;
 }
 
 bool step(Stepper& st, int steps, py::object progress)
 {
     const CallLock lock;
+    if (steps < 1) throw InputError("Drape.step", "steps", "expected at least 1 step, got " + std::to_string(steps));
     SolveCallbacks callbacks(progress, *st.setup);
     const sim::ProgressCallback on_step = callbacks.on_step();
     const sim::IterationCallback on_iteration = callbacks.on_iteration();
     {
-        py::gil_scoped_release release;
-        // The solver runs on the drape's worker thread; this one looks for Ctrl-C meanwhile.
-        st.run->advance(steps, on_step, on_iteration, [] {
-            py::gil_scoped_acquire gil;
-            return !signal_seen();
-        });
+        py::gil_scoped_release release;  // the callbacks take it back briefly (Ctrl-C, progress)
+        sim::Solver& solver = *st.solver;
+        for (int k = 0; k < steps; ++k) {
+            if (!solver.step(on_iteration)) break;
+            if (solver.report_due() && !on_step(solver.step_info())) break;
+            if (solver.converged()) break;
+        }
     }
     callbacks.raise_error();
-    io::require_finite_positions(st.run->positions(), "the drape");
-    st.changed = false;
-    return st.run->totals().converged;
+    io::require_finite_positions(st.solver->positions(), "the drape");
+    return st.solver->converged();
 }
 
 void set_obstacles(Stepper& st, py::iterable obstacles)
 {
     const CallLock lock;
-    geometry::ObstacleSet set;
+    // Built twice from the same values: one set for the solver, one for the scene (the report,
+    // the folds and the picture read the scene's).
+    geometry::ObstacleSet for_solver, for_scene;
     std::vector<std::string> kinds;
     const std::string base = std::filesystem::current_path().string();
     for (py::handle h : obstacles) {
         if (!py::isinstance<Obstacle>(h)) throw py::type_error("Drape.obstacles: expected woven.Obstacle objects");
         const Obstacle& o = h.cast<const Obstacle&>();
         std::string kind;
-        set.add(io::obstacle_from_values(o.values, kPythonObstacle, base, &kind));
+        for_solver.add(io::obstacle_from_values(o.values, kPythonObstacle, base, &kind));
+        for_scene.add(io::obstacle_from_values(o.values, kPythonObstacle, base, nullptr));
         kinds.push_back(kind);
     }
-    app::replace_obstacles(*st.setup, std::move(set), std::move(kinds), st.run->positions(), "Drape");
-    const app::DrapeSetup& d = *st.setup;
-    st.changed = true;
-    st.changed_residual = sim::max_residual_relative(*d.model, d.scene.obstacles, st.run->positions(), d.problem.pinned,
-                                                     d.scene.solver.contact_distance, d.scene.solver.friction);
+    try {
+        st.solver->set_obstacles(std::move(for_solver));
+    } catch (const InputError& e) {
+        throw InputError("Drape", "obstacles", e.what());
+    }
+    st.setup->scene.obstacles = std::move(for_scene);
+    st.setup->scene.obstacle_kinds = std::move(kinds);
 }
 
 DrapeResult stepper_result(const Stepper& st)
@@ -269,10 +275,9 @@ DrapeResult stepper_result(const Stepper& st)
     const CallLock lock;
     DrapeResult r;
     r.setup = st.setup;
-    sim::Result totals = st.run->totals();
-    totals.x = st.run->positions();
-    if (st.changed) totals.converged = false;
-    r.run = std::make_shared<app::DrapeRun>(app::finish_drape(*st.setup, std::move(totals), st.run->totals().interrupted));
+    sim::Result result = st.solver->result();
+    const bool interrupted = result.interrupted;
+    r.run = std::make_shared<app::DrapeRun>(app::finish_drape(*st.setup, std::move(result), interrupted));
     r.report = app::drape_report_json(*r.run, {});
     return r;
 }
@@ -345,12 +350,12 @@ report written (with `files`: each file's size and SHA-256).)")
 
     py::class_<Stepper, std::shared_ptr<Stepper>>(m, "Drape", R"(A drape advanced step by step, its obstacles movable between steps.
 
-Drape(scene, *, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis) takes
-woven.drape's arguments (checked as the command checks them) and holds the flat start;
-step(n) advances it by at most n solver steps. The solver runs on a worker thread that
-pauses after the steps asked for: step by step, the drape is woven.drape's, bit for bit. Once
-the run has ended (at rest or at the step limit), a further step() runs the solver again from
-the state reached (after moving an obstacle, say).
+Drape(scene, *, fabric, grid, solver, seed, threads, max_steps, perturb, hysteresis, bias,
+initial_positions) takes woven.drape's arguments (checked as the command checks them) and
+holds the start; step(n) takes at most n solver steps (sim::Solver's step, on this thread
+without the GIL), stopping early at rest: step by step, the drape is woven.drape's, bit for
+bit. max_steps is the progress dict's limit; step() itself takes the steps asked for. Once at
+rest, a further step() steps on from the state reached (after moving an obstacle, say).
 
 >>> import woven
 >>> d = woven.Drape("cube", fabric="cotton", grid=11, seed=1, threads=1)
@@ -376,31 +381,31 @@ Replacing the obstacles refuses (woven.InputError) a set that a free particle li
 the cloth is kept out of obstacles, not pushed out of them.)")
         .def(py::init(&make_stepper), py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(), py::arg("grid") = py::none(),
              py::arg("solver") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = py::none(),
-             py::arg("max_steps") = py::none(), py::arg("perturb") = py::none(), py::arg("hysteresis") = py::none())
+             py::arg("max_steps") = py::none(), py::arg("perturb") = py::none(), py::arg("hysteresis") = py::none(),
+             py::arg("bias") = py::none(), py::arg("initial_positions") = py::none())
         .def("step", &step, py::arg("steps") = 1, py::kw_only(), py::arg("progress") = py::none(),
-             "Advances by at most `steps` solver steps (fewer when it comes to rest); progress as woven.drape's. Returns converged.")
-        .def_property_readonly("positions", [](const Stepper& st) { return points_array(st.run->positions()); },
+             "Takes at most `steps` solver steps (fewer when it comes to rest, or progress or Ctrl-C stops it); progress as "
+             "woven.drape's. Returns converged.")
+        .def_property_readonly("positions", [](const Stepper& st) { return points_array(st.solver->positions()); },
                                "Every grid particle, (nu * nv, 3) float64, metres, z up; particle (i, j) is row i + nu * j.")
         .def_property_readonly("grid", [](const Stepper& st) { return py::make_tuple(st.setup->grid.nu, st.setup->grid.nv); }, "(nu, nv).")
-        .def_property_readonly("energy", [](const Stepper& st) { return st.run->totals().energy.total(); }, "The model's energy at the state, J.")
-        .def_property_readonly("residual", [](const Stepper& st) {
-            return st.changed ? st.changed_residual : st.run->totals().equilibrium.max_residual_rel;
-        },
+        .def_property_readonly("energy", [](const Stepper& st) { return st.solver->energy(); }, "The model's energy at the state, J.")
+        .def_property_readonly("residual", [](const Stepper& st) { return st.solver->residual(); },
                                "The largest residual force on a free particle over its weight m g (report.json's max_residual_rel).")
         .def_property_readonly("tolerance", [](const Stepper& st) { return st.setup->scene.solver.residual_tolerance; },
                                "The residual at which the drape is at rest.")
-        .def_property_readonly("steps", [](const Stepper& st) { return st.run->totals().steps; }, "Solver steps taken so far.")
-        .def_property_readonly("time_s", [](const Stepper& st) { return st.run->totals().simulated_time; }, "Simulated time so far, s.")
-        .def_property_readonly("converged", [](const Stepper& st) { return !st.changed && st.run->totals().converged; },
-                               "True when the last step() ended at rest (False again after the obstacles change).")
+        .def_property_readonly("steps", [](const Stepper& st) { return st.solver->steps(); }, "Solver steps taken so far.")
+        .def_property_readonly("time_s", [](const Stepper& st) { return st.solver->time(); }, "Simulated time so far, s.")
+        .def_property_readonly("converged", [](const Stepper& st) { return st.solver->converged(); },
+                               "True when the last step ended at rest (False again after the obstacles change).")
         .def_property("obstacles", [](const Stepper& st) { return st.setup->scene.obstacle_kinds; }, &set_obstacles,
                       "The obstacles' types; set it to a list of woven.Obstacle to replace them between steps.")
         .def("result", &stepper_result,
              "The state reached as a woven.DrapeResult (its report, fields and save()); it shares this drape's scene.")
         .def("__repr__", [](const Stepper& st) {
             return "<woven.Drape " + st.setup->scene.name + ", " + std::to_string(st.setup->grid.nu) + " x " +
-                   std::to_string(st.setup->grid.nv) + ", " + std::to_string(st.run->totals().steps) + " steps" +
-                   (!st.changed && st.run->totals().converged ? ", converged>" : ">");
+                   std::to_string(st.setup->grid.nv) + ", " + std::to_string(st.solver->steps()) + " steps" +
+                   (st.solver->converged() ? ", converged>" : ">");
         });
 
     m.def("drape", &drape, py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(), py::arg("grid") = py::none(),

@@ -3,6 +3,8 @@ stepped from Python with obstacles moved between steps, the testers' arrays and 
 nothing on stdout, and the docstrings' examples run as written."""
 import doctest
 import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -90,6 +92,31 @@ def test_a_stepped_drape_comes_to_rest_and_follows_a_moved_obstacle():
     with pytest.raises(woven.InputError, match="lies inside an obstacle"):
         d.obstacles = [woven.Obstacle.box((0, 0, 0.5), (0.5, 0.5, 1.0))]
     assert d.obstacles == ["plane", "box"]
+
+
+def test_a_stepped_drape_takes_every_keyword_drape_takes():
+    # initial_positions and bias, as woven.drape takes them: the same run, bit for bit.
+    flat = woven.drape("cube", grid=7, seed=1, threads=1, max_steps=3)
+    start = flat.particles + np.array([0.0, 0.0, 0.01])
+    whole = woven.drape("cube", grid=7, seed=1, threads=1, bias="fabric", initial_positions=start)
+    d = woven.Drape("cube", grid=7, seed=1, threads=1, bias="fabric", initial_positions=start)
+    np.testing.assert_array_equal(d.positions[:, 2] > flat.particles[:, 2], True)
+    while not d.converged and d.steps < 100:
+        d.step(5)
+    assert d.steps == whole.steps
+    np.testing.assert_array_equal(d.positions, whole.particles)
+    assert d.result().report["start_sha256"] == whole.report["start_sha256"] != ""
+    with pytest.raises(TypeError, match="Drape\\(\\): initial_positions"):
+        woven.Drape("cube", grid=7, initial_positions=np.zeros(3))
+
+
+def test_the_interpreter_exits_cleanly_in_the_middle_of_a_stepped_drape():
+    # No worker thread: a Drape left mid-run at exit is an object like any other, with no
+    # thread to stop or join while the interpreter finalises.
+    code = "import woven\nd = woven.Drape('cube', grid=9, threads=1)\nd.step(2)\nprint(d.steps)"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.strip() == "2"
 
 
 def test_the_testers_return_arrays_take_progress_and_print_nothing(capfd):

@@ -323,6 +323,22 @@ TEST(CornerStructure, ClassifiesTheBillowsOfACorner)
     EXPECT_EQ(analysis::corner_structure({billow(15.1, 0.1)}), CornerStructure::PUSHED_BILLOW);
     EXPECT_EQ(analysis::corner_structure({billow(-20, 0.1), billow(20, 0.1)}), CornerStructure::TWO_FOLDS);
     EXPECT_EQ(analysis::corner_structure({billow(-30, 0.1), billow(0, 0.1), billow(30, 0.1)}), CornerStructure::SEVERAL_FOLDS);
+    // A side-panel wave (beyond the 80-degree cone) and a ripple on the main billow's flank
+    // (below half its standout) are not folds: the paper solver's cotton corner, one billow at
+    // +41 degrees standing out 0.06 m with a 0.013 m wave of the side at -130 degrees, is one
+    // billow pushed round the corner, not two folds.
+    EXPECT_EQ(analysis::corner_structure({billow(41, 0.06), billow(-130, 0.013)}), CornerStructure::PUSHED_BILLOW);
+    EXPECT_EQ(analysis::corner_structure({billow(-5, 0.06), billow(40, 0.029)}), CornerStructure::SINGLE_BILLOW);
+    EXPECT_EQ(analysis::corner_structure({billow(-5, 0.06), billow(40, 0.03)}), CornerStructure::TWO_FOLDS);
+    EXPECT_EQ(analysis::corner_structure({billow(-80.5, 0.2), billow(60, 0.01)}), CornerStructure::PUSHED_BILLOW);
+    const analysis::CornerBillows split = analysis::split_corner_billows({billow(-60, 0.05), billow(10, 0.02), billow(50, 0.04), billow(120, 0.08)});
+    ASSERT_EQ(split.folds.size(), 2u);
+    EXPECT_EQ(split.folds[0].angle_deg, -60);
+    EXPECT_EQ(split.folds[1].angle_deg, 50);
+    ASSERT_EQ(split.ripples.size(), 1u);
+    EXPECT_EQ(split.ripples[0].angle_deg, 10);
+    ASSERT_EQ(split.side_waves.size(), 1u);
+    EXPECT_EQ(split.side_waves[0].angle_deg, 120);
     EXPECT_STREQ(analysis::to_string(CornerStructure::SINGLE_BILLOW), "single billow");
     EXPECT_DOUBLE_EQ(analysis::corner_asymmetry_deg({}), 0.0);
     EXPECT_DOUBLE_EQ(analysis::corner_asymmetry_deg({billow(-20, 0.1), billow(20, 0.1)}), 0.0);

@@ -40,6 +40,9 @@ TEST(LeavingFolds, ClassifiesKnownCorners)
     EXPECT_EQ(classify_leaving(billows({15.1})), LeavingFolds::SINGLE_OFFSET);
     EXPECT_EQ(classify_leaving(billows({-49})), LeavingFolds::SINGLE_OFFSET);
     EXPECT_EQ(classify_leaving(billows({-21, 19})), LeavingFolds::MULTIPLE);
+    std::vector<Billow> ripple = billows({-21, 19});  // a fold standing out 0.05 m and a ripple of 0.02 m
+    ripple[1].standout_m = 0.02;
+    EXPECT_EQ(classify_leaving(ripple), LeavingFolds::SINGLE_OFFSET);
     EXPECT_STREQ(structure_name(LeavingFolds::SINGLE_OFFSET), "single, off the diagonal");
     EXPECT_STREQ(structure_name(LeavingFolds::MULTIPLE), "two or more folds");
 }

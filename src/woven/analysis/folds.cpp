@@ -325,11 +325,26 @@ const char* to_string(CornerStructure s)
     return "?";
 }
 
+CornerBillows split_corner_billows(const std::vector<Billow>& billows)
+{
+    CornerBillows out;
+    double largest = 0;
+    for (const Billow& b : billows)
+        if (std::abs(b.angle_deg) <= kCornerConeDeg) largest = std::max(largest, b.standout_m);
+    for (const Billow& b : billows) {
+        if (std::abs(b.angle_deg) > kCornerConeDeg) out.side_waves.push_back(b);
+        else if (b.standout_m >= kFoldStandoutFraction * largest) out.folds.push_back(b);
+        else out.ripples.push_back(b);
+    }
+    return out;
+}
+
 CornerStructure corner_structure(const std::vector<Billow>& billows)
 {
-    switch (billows.size()) {
+    const std::vector<Billow> folds = split_corner_billows(billows).folds;
+    switch (folds.size()) {
     case 0: return CornerStructure::NONE;
-    case 1: return std::abs(billows[0].angle_deg) <= kDiagonalToleranceDeg ? CornerStructure::SINGLE_BILLOW : CornerStructure::PUSHED_BILLOW;
+    case 1: return std::abs(folds[0].angle_deg) <= kDiagonalToleranceDeg ? CornerStructure::SINGLE_BILLOW : CornerStructure::PUSHED_BILLOW;
     case 2: return CornerStructure::TWO_FOLDS;
     default: return CornerStructure::SEVERAL_FOLDS;
     }

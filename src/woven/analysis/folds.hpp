@@ -118,10 +118,10 @@ FoldAnalysis analyse_folds(const geometry::TriangleMesh& cloth, const BoxFootpri
 /// billow leaving the corner along its diagonal, wool's collapse into two folds, polyester/
 /// cotton's fold pushed round the corner.
 enum class CornerStructure {
-    NONE,            ///< no billow at the corner
-    SINGLE_BILLOW,   ///< one billow within kDiagonalToleranceDeg of the diagonal (45 degrees to the sides)
-    PUSHED_BILLOW,   ///< one billow further round the corner
-    TWO_FOLDS,       ///< two billows
+    NONE,            ///< no fold leaves the corner
+    SINGLE_BILLOW,   ///< one fold, within kDiagonalToleranceDeg of the diagonal (45 degrees to the sides)
+    PUSHED_BILLOW,   ///< one fold further round the corner
+    TWO_FOLDS,       ///< two folds
     SEVERAL_FOLDS,   ///< three or more
 };
 
@@ -131,7 +131,29 @@ const char* to_string(CornerStructure s);
 /// A billow this close to the corner's diagonal (degrees) leaves the corner "at 45 degrees".
 inline constexpr double kDiagonalToleranceDeg = 15.0;
 
-/// The structure of one corner's billows (one section's, Billow::corner all the same).
+/// Billows further than this from the diagonal (deg) stand well in front of a side (45 deg is
+/// the side's normal): a wave of the side's panel, not a fold leaving the corner. On the cube
+/// the side waves sit at 99-132 deg, the corner folds within 70 deg: 80 separates them.
+inline constexpr double kCornerConeDeg = 80;
+
+/// A billow in the cone that stands out less than this fraction of the corner's largest is a
+/// ripple on the flank of the corner's fold, not a fold of its own: a person counting the folds
+/// of the paper's Fig. 8 counts lobes of cloth of the same order as their neighbour, not the
+/// small waves on one lobe's flank (docs/EXPERIMENTS.md, "Reading a corner").
+inline constexpr double kFoldStandoutFraction = 0.5;
+
+/// The billows of one corner split as a person reads them (the rule of kCornerConeDeg and
+/// kFoldStandoutFraction): the folds leaving the corner, the smaller ripples in the cone and the
+/// waves of the side panels beyond it; each in the input's order.
+struct CornerBillows {
+    std::vector<Billow> folds;
+    std::vector<Billow> ripples;
+    std::vector<Billow> side_waves;
+};
+CornerBillows split_corner_billows(const std::vector<Billow>& billows);
+
+/// The structure of one corner's billows (one section's, Billow::corner all the same): that of
+/// the folds of split_corner_billows.
 CornerStructure corner_structure(const std::vector<Billow>& billows);
 
 /// The corner's asymmetry (degrees): the standout-weighted mean of its billows' angles from the

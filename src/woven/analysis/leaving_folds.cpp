@@ -17,13 +17,7 @@ const char* structure_name(LeavingFolds s)
     return "";
 }
 
-std::vector<Billow> leaving(const std::vector<Billow>& all)
-{
-    std::vector<Billow> out;
-    for (const auto& b : all)
-        if (std::abs(b.angle_deg) <= kCornerConeDeg) out.push_back(b);
-    return out;
-}
+std::vector<Billow> leaving(const std::vector<Billow>& all) { return split_corner_billows(all).folds; }
 
 LeavingFolds classify_leaving(const std::vector<Billow>& all)
 {

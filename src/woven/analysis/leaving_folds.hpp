@@ -1,9 +1,9 @@
 #pragma once
 // The folds that leave a corner of a box (the paper's cube, Sec. 6), as the cube and map
 // experiments read them: of the billows a section finds at the corner (folds.hpp), those within
-// a cone about its diagonal (the others are waves of the sides' panels), and what they form;
-// their counts over corners and drapes. (corner_structure in folds.hpp classifies every billow
-// of a corner, as report.json's `folds` shows them.)
+// a cone about its diagonal standing out a real fraction of the largest (split_corner_billows in
+// folds.hpp: the others are ripples and waves of the sides' panels), and what they form; their
+// counts over corners and drapes.
 #include <map>
 #include <vector>
 
@@ -14,16 +14,10 @@ namespace woven::analysis {
 /// What the folds leaving a corner form, read from one section (the experiments: 0.10 m below
 /// the top); a single one "on the diagonal" within kDiagonalToleranceDeg (folds.hpp).
 enum class LeavingFolds { NONE, SINGLE_DIAGONAL, SINGLE_OFFSET, MULTIPLE };
-/// Billows further than this from the diagonal (deg) stand well in front of a side (45 deg is
-/// the side's normal): a wave of the side's panel, not a fold leaving the corner; the structure
-/// counts only the others. On the cube the side waves sit at 99-132 deg, the corner folds
-/// within 70 deg (corner_map.md): 80 separates them.
-inline constexpr double kCornerConeDeg = 80;
-
 /// "none", "single, on the diagonal", "single, off the diagonal", "two or more folds".
 const char* structure_name(LeavingFolds s);
 
-/// The billows of a corner that leave it (within kCornerConeDeg of its diagonal).
+/// The billows of a corner that leave it: the folds of split_corner_billows (folds.hpp).
 std::vector<Billow> leaving(const std::vector<Billow>& all);
 
 /// The structure of a corner's billows (those leaving it count).

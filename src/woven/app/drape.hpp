@@ -3,16 +3,11 @@
 // (python/) run the same code and write the same files: prepare_drape validates and builds the
 // model, solve_drape runs the solver, finish_drape checks and measures the state reached,
 // drape_report_json makes report.json and write_drape_outputs writes the output set.
-#include <condition_variable>
 #include <cstdint>
-#include <exception>
 #include <filesystem>
-#include <functional>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -93,61 +88,6 @@ std::string drape_banner(const DrapeSetup& setup);
 /// Runs the solver (sim::drape) on the setup.
 sim::Result solve_drape(const DrapeSetup& setup, const sim::ProgressCallback& progress,
                         const sim::IterationCallback& iteration);
-
-/// A drape solved on a worker thread that stops after the steps each advance() asks for (the
-/// Python module's woven.Drape): the solver's own run, step for step as solve_drape's, its state
-/// readable and its obstacles replaceable (replace_obstacles) between advances. Once the run has
-/// ended (at rest, at the step limit, or stopped), a further advance runs the solver again from
-/// the state reached (without the start perturbation; its step size starts again).
-class SteppedDrape {
-public:
-    explicit SteppedDrape(const DrapeSetup& setup);
-    ~SteppedDrape();  ///< stops the worker (the run ends as on an interrupt)
-    SteppedDrape(const SteppedDrape&) = delete;
-    SteppedDrape& operator=(const SteppedDrape&) = delete;
-
-    /// Runs at most `steps` (>= 1) more steps, fewer when the run ends first. `progress` and
-    /// `iteration` are called on the worker as solve_drape's (false from either stops the run).
-    /// `keep_waiting` is called on this thread about every 0.1 s meanwhile; false stops the run
-    /// at its next step or iteration. What the solver throws is thrown here.
-    void advance(int steps, const sim::ProgressCallback& progress, const sim::IterationCallback& iteration,
-                 const std::function<bool()>& keep_waiting);
-
-    const Positions& positions() const { return x_; }
-    /// Over every run so far: steps, iterations, simulated time; the last step's energy,
-    /// equilibrium, converged and interrupted.
-    const sim::Result& totals() const { return totals_; }
-    /// True when the run ended (a further advance starts another).
-    bool ended() const { return ended_; }
-
-private:
-    void start(int budget, const sim::ProgressCallback* progress, const sim::IterationCallback* iteration);
-    void stop_worker();
-
-    const DrapeSetup& setup_;
-    Positions x_;
-    sim::Result totals_;
-    bool ended_ = true, started_ = false;
-    // The worker and its handshake.
-    std::thread worker_;
-    std::mutex mutex_;
-    std::condition_variable cv_;
-    int budget_ = 0;         ///< steps the worker may take before it pauses
-    bool paused_ = false;    ///< the worker waits in a callback
-    bool pause_due_ = false; ///< the budget is spent: pause at the next callback
-    bool finished_ = false;  ///< the worker's run returned
-    bool stop_ = false;      ///< end the run at the next callback
-    const sim::ProgressCallback* progress_ = nullptr;
-    const sim::IterationCallback* iteration_ = nullptr;
-    sim::Result run_result_, base_;  ///< the worker's run; the totals before it
-    std::exception_ptr failure_;     ///< what the worker's run threw
-};
-
-/// Replaces the setup's obstacles (`kinds`: their types) between advances. InputError naming
-/// `source` when a free particle of `x` lies inside one of them (the solver keeps particles
-/// out of obstacles; it cannot take one from inside): move an obstacle in smaller steps.
-void replace_obstacles(DrapeSetup& setup, geometry::ObstacleSet obstacles, std::vector<std::string> kinds, const Positions& x,
-                       const std::string& source);
 
 /// The state reached, checked (RuntimeError on a non-finite position) and measured: the cut
 /// cloth's surface and the corner folds over a box.

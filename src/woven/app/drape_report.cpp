@@ -132,15 +132,25 @@ nlohmann::json folds_json(const analysis::FoldAnalysis& fa, const analysis::Fold
                                  {"length_m", num(s.length_m)}});
     }
     f["prominence_m"] = options.prominence_m;
+    f["corner_cone_deg"] = analysis::kCornerConeDeg;
+    f["fold_standout_fraction"] = analysis::kFoldStandoutFraction;
     f["corners"] = nlohmann::json::array();
     for (int c = 0; c < 4; ++c) {
         nlohmann::json corner{{"corner", c}, {"billows", nlohmann::json::array()}, {"angles_deg", nlohmann::json::array()},
                               {"standout_m", nlohmann::json::array()}, {"structure", nlohmann::json::array()},
-                              {"asymmetry_deg", nlohmann::json::array()}};
+                              {"asymmetry_deg", nlohmann::json::array()}, {"folds", nlohmann::json::array()},
+                              {"fold_angles_deg", nlohmann::json::array()}, {"side_wave_angles_deg", nlohmann::json::array()}};
         for (const auto& s : fa.sections) {
             const std::vector<analysis::Billow> at = s.at_corner(c);
             corner["structure"].push_back(analysis::to_string(analysis::corner_structure(at)));
             corner["asymmetry_deg"].push_back(num(analysis::corner_asymmetry_deg(at)));
+            const analysis::CornerBillows split = analysis::split_corner_billows(at);
+            nlohmann::json fold_angles = nlohmann::json::array(), wave_angles = nlohmann::json::array();
+            for (const auto& b : split.folds) fold_angles.push_back(num(b.angle_deg));
+            for (const auto& b : split.side_waves) wave_angles.push_back(num(b.angle_deg));
+            corner["folds"].push_back(split.folds.size());
+            corner["fold_angles_deg"].push_back(fold_angles);
+            corner["side_wave_angles_deg"].push_back(wave_angles);
             nlohmann::json angles = nlohmann::json::array(), standout = nlohmann::json::array();
             for (const auto& b : s.at_corner(c)) {
                 angles.push_back(num(b.angle_deg));

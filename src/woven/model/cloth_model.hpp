@@ -80,8 +80,10 @@ struct ModelOptions {
     /// Which shear law the trellis energy (Eq. 14-15) carries. DEEMBEDDED: the material's, the
     /// input curve raised by the KES-FB1 specimen's end effect (its free short edges carry no
     /// shear, so the instrument reads a G below the material's); the factor is found by a
-    /// virtual FB1 (testers::shear_deembedding), which the woven commands run and store in
-    /// shear_scale. MEASURED: the input curve as the instrument read it.
+    /// virtual FB1 (testers::shear_deembedding), which testers::make_drape_model (the model of
+    /// the woven commands and the Python module) runs and stores in shear_scale. make_cloth_model
+    /// applies shear_scale alone: built directly from ModelOptions{} (scale 1) the model carries
+    /// the law as measured. MEASURED: the input curve as the instrument read it.
     ShearLaw shear_law = ShearLaw::DEEMBEDDED;
     /// The trellis law is the input shear curve times this factor (the model applies only this).
     double shear_scale = 1.0;

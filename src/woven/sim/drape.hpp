@@ -146,7 +146,7 @@ public:
     static ClothRef evolving(model::ClothModel& model)
     {
         ClothRef r(&model);
-        r.evolving_ = true;
+        r.writable_ = &model;
         return r;
     }
     const model::ClothModel* get() const { return model_; }
@@ -154,11 +154,11 @@ public:
     const model::ClothModel* operator->() const { return model_; }
     explicit operator bool() const { return model_ != nullptr; }
     /// The model whose slip states the solver updates; null when read-only.
-    model::ClothModel* evolving_model() const { return evolving_ ? const_cast<model::ClothModel*>(model_) : nullptr; }
+    model::ClothModel* evolving_model() const { return writable_; }
 
 private:
     const model::ClothModel* model_ = nullptr;
-    bool evolving_ = false;  ///< only `evolving`, from a writable model, sets it
+    model::ClothModel* writable_ = nullptr;  ///< only `evolving`, from a writable model, sets it
 };
 
 /// What to drape: the model, the obstacles, the start and the pinned particles.
@@ -194,7 +194,7 @@ struct IterationInfo {
 };
 using IterationCallback = std::function<bool(const IterationInfo&)>;
 
-/// Equilibrium measures of a state (MODEL-NOTES/issue: two numbers).
+/// Equilibrium measures of a state: two numbers.
 struct Equilibrium {
     double max_move = 0;          ///< m, over the last step
     double max_residual_rel = 0;  ///< largest |F_i| / (m g) over free particles (g: standard gravity when the
@@ -231,7 +231,7 @@ inline void add_counters(Result& total, const Result& more)
     total.wall_time += more.wall_time;
 }
 
-/// Runs the chosen solver to equilibrium (or max_steps, or until a callback says stop). With
+/// Runs the chosen solver (sim::Solver, solver.hpp: this is a loop over its step()) to equilibrium (or max_steps, or until a callback says stop). With
 /// options.threads > 0, oneTBB and OpenMP run on that many threads during the call; the BLAS on
 /// one; the process-wide counts are restored on return. Threads evaluate the model's local
 /// terms (the same bits on any count) and, from two threads on a large grid, factorise the two

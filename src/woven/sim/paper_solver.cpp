@@ -25,7 +25,6 @@
 // Equilibrium (Sec. 6): the largest particle movement between successive steps below a
 // threshold, for 10 steps and 0.1 s in a row. Not fast: kept for reproduction and comparison.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -186,149 +185,159 @@ private:
     std::vector<int> first_;  ///< links_ of particle p: [first_[p], first_[p + 1])
 };
 
-}  // namespace
+/// The paper's solver as a Solver: the state carried from one step to the next.
+class PaperStepper final : public Solver {
+public:
+    PaperStepper(const Problem& problem, const SolverOptions& options);
 
-Result paper_drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress, const IterationCallback& on_iteration)
+    bool report_due() const override { return steps_ % options_.paper.progress_every == 0 || calm >= calm_steps; }
+
+private:
+    bool advance(const IterationCallback& iteration) override;
+    double relax(int p, bool perturb);
+
+    const model::ClothModel& model;
+    const int n;
+    double dt = 0;
+    std::vector<double> inertia;  // m_i / dt^2
+    double clearance = 0, sweep_tolerance = 0, noise_fade = 0;
+    int calm_steps = 0;
+    std::mt19937_64 rng;
+    std::normal_distribution<double> normal{0.0, 1.0 / std::sqrt(3.0)};
+    Positions v, x1, x_prev;
+    std::vector<double> last_move;
+    std::vector<char> active, next;
+    ParticleEnergy local;
+    int calm = 0;
+};
+
+PaperStepper::PaperStepper(const Problem& problem, const SolverOptions& options)
+    : Solver(problem, options), model(*problem.model), n(model.grid().size()), rng(options.seed), v(n, Vec3::Zero()), x1(n), last_move(n),
+      active(n), next(n), local(model)
 {
     const PaperSolverOptions& po = options.paper;
-    const auto start = std::chrono::steady_clock::now();
-    const model::ClothModel& model = *problem.model;
     // The paper's per-particle steps have no place for the friction elements' states (their
     // update between converged steps): hysteresis as friction is the fast solver's.
     if (model.hysteresis() == model::Hysteresis::FRICTION)
-        throw InputError("paper solver", "hysteresis", "expected loading-branch: the paper solver does not carry the friction elements (use --solver fast)");
-    const geometry::ObstacleSet& obstacles = *problem.obstacles;
-    const int n = model.grid().size();
+        throw InputError("paper solver", "hysteresis",
+                         "expected loading-branch: the paper solver does not carry the friction elements (use --solver fast)");
     const double sigma = model.grid().sigma;
-    const std::vector<char> pinned = pinned_mask(problem);
-    const double g = model.gravity();
     const double stiffness = model.spacing().stretch((1.0 + po.stiffness_strain) * sigma).d2;  // S'' at 1 % strain
     // The cap uses an interior particle's mass W sigma^2.
-    const double dt = stiffness > 0 ? std::min(options.time_step, std::sqrt(model.particle_mass() / (po.dt_cap * stiffness))) : options.time_step;
-    std::vector<double> inertia(n);  // m_i / dt^2
+    dt = stiffness > 0 ? std::min(options.time_step, std::sqrt(model.particle_mass() / (po.dt_cap * stiffness))) : options.time_step;
+    inertia.resize(n);
     for (int i = 0; i < n; ++i) inertia[i] = model.mass(i) / (dt * dt);
-    const double clearance = po.clearance * options.contact_distance;
-    const int max_steps = options.max_steps > 0 ? options.max_steps : default_max_steps(SolverKind::PAPER);
-    const double sweep_tolerance = po.sweep_tolerance * options.move_tolerance;  // phase 2 ends when a sweep moves no particle more
-    const double noise_fade = po.noise_fade * sigma;
+    clearance = po.clearance * options.contact_distance;
+    sweep_tolerance = po.sweep_tolerance * options.move_tolerance;  // phase 2 ends when a sweep moves no particle more
+    noise_fade = po.noise_fade * sigma;
     // Equilibrium (Sec. 6): movement below the threshold calm_steps steps in a row, and over at
     // least calm_time: with a small step, a cloth released from rest moves less than the
     // threshold per step for its first steps.
-    const int calm_steps = std::max(po.calm_steps, static_cast<int>(std::ceil(po.calm_time / dt)));
+    calm_steps = std::max(po.calm_steps, static_cast<int>(std::ceil(po.calm_time / dt)));
+    x_ = problem.initial;
+}
 
-    std::mt19937_64 rng(options.seed);
-    std::normal_distribution<double> normal(0.0, 1.0 / std::sqrt(3.0));
-
-    Result result;
-    Positions x = problem.initial, v(n, Vec3::Zero()), x1(n), x_prev;
-    std::vector<double> last_move(n);
-    std::vector<char> active(n), next(n);
-    ParticleEnergy local(model);
-    int calm = 0;
-
-    // One particle's move in phase 2: a Newton step on its own energy (preconditioned gradient),
-    // stopped at the nearest obstacle, plus the random perturbation; halved until the phase-2
-    // energy decreases. Returns how far it moved.
-    auto relax = [&](int p, bool perturb) {
-        Vec3 grad;
-        Mat3 H;
-        const Vec3 from = x[p];
-        const double e0 = local.derivatives(x, p, grad, H) + 0.5 * inertia[p] * (from - x1[p]).squaredNorm();
-        grad += inertia[p] * (from - x1[p]);
-        H += inertia[p] * Mat3::Identity();
-        const Eigen::LDLT<Mat3> solver(H);
-        Vec3 d = -solver.solve(grad);
-        // A step that would reach the nearest obstacle's surface (planar near the particle) stops
-        // there in the normal direction: the minimiser of the local quadratic model on n.d = -gap,
-        // which for a particle resting on the obstacle is the step in the tangent plane (the
-        // obstacle carries the normal part of its force: no friction).
-        const geometry::ClosestPoint c = obstacles.closest(from);
-        const double gap = std::max(0.0, c.distance - clearance);
-        if (d.dot(c.normal) < -gap) {
-            const Vec3 Hn = solver.solve(c.normal);
-            d -= (gap + d.dot(c.normal)) / c.normal.dot(Hn) * Hn;
-        }
-        if (perturb) d += po.noise * last_move[p] * std::min(1.0, last_move[p] / noise_fade) * Vec3(normal(rng), normal(rng), normal(rng));
-        for (double alpha = 1.0; alpha > po.min_move_fraction; alpha *= 0.5) {
-            Vec3 to = from;
-            move_particle(obstacles, to, alpha * d, clearance, nullptr);
-            x[p] = to;
-            if (local.value(x, p) + 0.5 * inertia[p] * (to - x1[p]).squaredNorm() < e0) return (to - from).norm();
-        }
-        x[p] = from;
-        return 0.0;
-    };
-
-    for (int step = 1; step <= max_steps; ++step) {
-        x_prev = x;
-        // Phase 1 (Sec. 3): free fall in a viscous medium, with collisions.
-        const double drag = std::exp(-options.viscosity * dt);
-        x1 = x;
-        for (int i = 0; i < n; ++i) {
-            last_move[i] = v[i].norm() * dt;  // the step's motion (phase 3 sets v to it)
-            v[i] = pinned[i] ? Vec3::Zero() : Vec3(drag * v[i] + Vec3(0, 0, -g * dt));
-            Vec3 normal_i;
-            if (move_particle(obstacles, x1[i], v[i] * dt, clearance, &normal_i)) v[i] -= std::min(0.0, v[i].dot(normal_i)) * normal_i;
-        }
-
-        // Phase 2: stochastic minimisation of the inter-particle energy plus proximity to x1,
-        // particle by particle (Gauss-Seidel), sweeps alternating forward and backward; after
-        // the first sweep only particles near one that moved are visited again.
-        // Repulsion partners: pairs closer than pair_margin sigma, a margin for the moves of phase 2.
-        local.set_pairs(model.close_pairs(x1, po.pair_margin * model.grid().sigma));
-        x = x1;
-        int sweeps = 0;
-        for (int i = 0; i < n; ++i) active[i] = !pinned[i];
-        for (int sweep = 0; sweep < po.max_sweeps; ++sweep) {
-            ++sweeps;
-            bool moved = false;
-            std::fill(next.begin(), next.end(), 0);
-            for (int s = 0; s < n; ++s) {
-                const int p = sweep % 2 == 0 ? s : n - 1 - s;
-                if (!active[p]) continue;
-                if (relax(p, sweep == 0) <= sweep_tolerance) continue;
-                moved = true;
-                next[p] = 1;
-                local.for_each_neighbour(p, [&](int q) { next[q] = active[q] = !pinned[q]; });
-            }
-            if (!moved) break;
-            active.swap(next);
-        }
-        // Phase 3: velocity correction for the motion of phase 2.
-        for (int i = 0; i < n; ++i) v[i] = pinned[i] ? Vec3::Zero() : Vec3(v[i] + (x[i] - x1[i]) / dt);
-
-        result.steps = step;
-        result.iterations += sweeps;
-        result.simulated_time += dt;
-        result.equilibrium.max_move = max_displacement(x, x_prev);
-        calm = result.equilibrium.max_move < options.move_tolerance ? calm + 1 : 0;
-        if (on_iteration) {
-            constexpr double kNotComputed = std::numeric_limits<double>::quiet_NaN();
-            if (!on_iteration(IterationInfo{step, sweeps, result.iterations, dt, kNotComputed, kNotComputed})) {
-                result.interrupted = true;
-                break;
-            }
-        }
-        const bool report = progress && (step % po.progress_every == 0 || calm >= calm_steps);
-        if (report || calm >= calm_steps)
-            result.equilibrium.max_residual_rel = max_residual_relative(model, obstacles, x, problem.pinned, options.contact_distance);
-        if (report) {
-            const StepInfo info{step, result.simulated_time, model.energy(x), result.equilibrium.max_move, result.equilibrium.max_residual_rel, &x};
-            if (!progress(info)) {
-                result.interrupted = true;
-                break;
-            }
-        }
-        if (calm >= calm_steps) {
-            result.converged = true;
-            break;
-        }
+// One particle's move in phase 2: a Newton step on its own energy (preconditioned gradient),
+// stopped at the nearest obstacle, plus the random perturbation; halved until the phase-2
+// energy decreases. Returns how far it moved.
+double PaperStepper::relax(int p, bool perturb)
+{
+    const PaperSolverOptions& po = options_.paper;
+    const geometry::ObstacleSet& obstacles = *problem_.obstacles;
+    Positions& x = x_;
+    Vec3 grad;
+    Mat3 H;
+    const Vec3 from = x[p];
+    const double e0 = local.derivatives(x, p, grad, H) + 0.5 * inertia[p] * (from - x1[p]).squaredNorm();
+    grad += inertia[p] * (from - x1[p]);
+    H += inertia[p] * Mat3::Identity();
+    const Eigen::LDLT<Mat3> solver(H);
+    Vec3 d = -solver.solve(grad);
+    // A step that would reach the nearest obstacle's surface (planar near the particle) stops
+    // there in the normal direction: the minimiser of the local quadratic model on n.d = -gap,
+    // which for a particle resting on the obstacle is the step in the tangent plane (the
+    // obstacle carries the normal part of its force: no friction).
+    const geometry::ClosestPoint c = obstacles.closest(from);
+    const double gap = std::max(0.0, c.distance - clearance);
+    if (d.dot(c.normal) < -gap) {
+        const Vec3 Hn = solver.solve(c.normal);
+        d -= (gap + d.dot(c.normal)) / c.normal.dot(Hn) * Hn;
     }
-    result.equilibrium.max_residual_rel = max_residual_relative(model, obstacles, x, problem.pinned, options.contact_distance);
-    result.x = std::move(x);
-    result.energy = model.evaluate(result.x);
-    result.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return result;
+    if (perturb) d += po.noise * last_move[p] * std::min(1.0, last_move[p] / noise_fade) * Vec3(normal(rng), normal(rng), normal(rng));
+    for (double alpha = 1.0; alpha > po.min_move_fraction; alpha *= 0.5) {
+        Vec3 to = from;
+        move_particle(obstacles, to, alpha * d, clearance, nullptr);
+        x[p] = to;
+        if (local.value(x, p) + 0.5 * inertia[p] * (to - x1[p]).squaredNorm() < e0) return (to - from).norm();
+    }
+    x[p] = from;
+    return 0.0;
+}
+
+bool PaperStepper::advance(const IterationCallback& on_iteration)
+{
+    const PaperSolverOptions& po = options_.paper;
+    const geometry::ObstacleSet& obstacles = *problem_.obstacles;
+    const std::vector<char>& pinned = held_;
+    const double g = model.gravity();
+    Positions& x = x_;
+    const int step = steps_ + 1;
+    x_prev = x;
+    // Phase 1 (Sec. 3): free fall in a viscous medium, with collisions.
+    const double drag = std::exp(-options_.viscosity * dt);
+    x1 = x;
+    for (int i = 0; i < n; ++i) {
+        last_move[i] = v[i].norm() * dt;  // the step's motion (phase 3 sets v to it)
+        v[i] = pinned[i] ? Vec3::Zero() : Vec3(drag * v[i] + Vec3(0, 0, -g * dt));
+        Vec3 normal_i;
+        if (move_particle(obstacles, x1[i], v[i] * dt, clearance, &normal_i)) v[i] -= std::min(0.0, v[i].dot(normal_i)) * normal_i;
+    }
+
+    // Phase 2: stochastic minimisation of the inter-particle energy plus proximity to x1,
+    // particle by particle (Gauss-Seidel), sweeps alternating forward and backward; after
+    // the first sweep only particles near one that moved are visited again.
+    // Repulsion partners: pairs closer than pair_margin sigma, a margin for the moves of phase 2.
+    local.set_pairs(model.close_pairs(x1, po.pair_margin * model.grid().sigma));
+    x = x1;
+    int sweeps = 0;
+    for (int i = 0; i < n; ++i) active[i] = !pinned[i];
+    for (int sweep = 0; sweep < po.max_sweeps; ++sweep) {
+        ++sweeps;
+        bool moved = false;
+        std::fill(next.begin(), next.end(), 0);
+        for (int s = 0; s < n; ++s) {
+            const int p = sweep % 2 == 0 ? s : n - 1 - s;
+            if (!active[p]) continue;
+            if (relax(p, sweep == 0) <= sweep_tolerance) continue;
+            moved = true;
+            next[p] = 1;
+            local.for_each_neighbour(p, [&](int q) { next[q] = active[q] = !pinned[q]; });
+        }
+        if (!moved) break;
+        active.swap(next);
+    }
+    // Phase 3: velocity correction for the motion of phase 2.
+    for (int i = 0; i < n; ++i) v[i] = pinned[i] ? Vec3::Zero() : Vec3(v[i] + (x[i] - x1[i]) / dt);
+
+    steps_ = step;
+    iterations_ += sweeps;
+    time_ += dt;
+    max_move_ = max_displacement(x, x_prev);
+    residual_changed();
+    calm = max_move_ < options_.move_tolerance ? calm + 1 : 0;
+    converged_ = calm >= calm_steps;
+    if (on_iteration) {
+        constexpr double kNotComputed = std::numeric_limits<double>::quiet_NaN();
+        if (!on_iteration(IterationInfo{step, sweeps, iterations_, dt, kNotComputed, kNotComputed})) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+std::unique_ptr<Solver> make_paper_solver(const Problem& problem, const SolverOptions& options)
+{
+    return std::make_unique<PaperStepper>(problem, options);
 }
 
 }  // namespace woven::sim::detail
