@@ -172,9 +172,9 @@ std::atomic<bool> g_exiting{false};  ///< set by stop_calls_at_exit
 
 }  // namespace
 
-bool interpreter_finalizing()
+/// The interpreter itself is finalizing: the GIL must not be taken.
+bool python_finalizing()
 {
-    if (g_exiting.load()) return true;
 #if PY_VERSION_HEX >= 0x030D0000
     return Py_IsFinalizing() != 0;
 #else
@@ -182,9 +182,11 @@ bool interpreter_finalizing()
 #endif
 }
 
+bool interpreter_finalizing() { return g_exiting.load() || python_finalizing(); }
+
 void wait_out_finalization()
 {
-    if (!interpreter_finalizing()) return;
+    if (!python_finalizing()) return;  // at exit but not yet finalizing: return (and release the call) as usual
     // Taking the GIL now would end this thread inside C++ (Python 3.11: pthread_exit, whose
     // unwinding aborts at the first noexcept frame: "exception not rethrown"); the process is
     // ending: wait for it, touching nothing.
@@ -225,6 +227,12 @@ CallLock::CallLock()
                 if (g_call_mutex.try_lock_for(std::chrono::milliseconds(50))) break;
             }
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        }
+        // Once the interpreter's atexit callbacks run (stop_calls_at_exit, which holds the GIL
+        // as this check does) no call starts: it could not finish before the interpreter does.
+        if (g_exiting.load()) {
+            g_call_mutex.unlock();
+            throw RuntimeError("the interpreter is exiting: no woven call starts now");
         }
     } catch (...) {
         --t_call_depth;

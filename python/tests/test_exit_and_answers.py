@@ -23,7 +23,6 @@ time.sleep({wait})
 @pytest.mark.parametrize("call", [
     'woven.drape("cube", fabric="cotton", grid=41, seed=1, threads=1, progress=lambda i: True)',
     'woven.drape("cube", fabric="cotton", grid=41, seed=1, threads=1)',
-    'woven.cusick("cotton", spacing_cm=1, threads=1, render=False, progress=lambda e: True)',
 ])
 def test_the_interpreter_exits_cleanly_while_a_daemon_thread_is_in_woven(call, tmp_path):
     for wait in (0.3, 0.8, 1.5):
