@@ -330,7 +330,10 @@ TEST(CornerStructure, ClassifiesTheBillowsOfACorner)
     EXPECT_EQ(analysis::corner_structure({billow(41, 0.06), billow(-130, 0.013)}), CornerStructure::PUSHED_BILLOW);
     EXPECT_EQ(analysis::corner_structure({billow(-5, 0.06), billow(40, 0.029)}), CornerStructure::SINGLE_BILLOW);
     EXPECT_EQ(analysis::corner_structure({billow(-5, 0.06), billow(40, 0.03)}), CornerStructure::TWO_FOLDS);
-    EXPECT_EQ(analysis::corner_structure({billow(-80.5, 0.2), billow(60, 0.01)}), CornerStructure::PUSHED_BILLOW);
+    EXPECT_EQ(analysis::corner_structure({billow(-90.5, 0.2), billow(60, 0.01)}), CornerStructure::PUSHED_BILLOW);
+    // Two folds of the fast solver's cotton (seed 3): one at -84 degrees, in front of the side
+    // near the corner, as large as its partner at +53.
+    EXPECT_EQ(analysis::corner_structure({billow(-84, 0.065), billow(53, 0.062)}), CornerStructure::TWO_FOLDS);
     const analysis::CornerBillows split = analysis::split_corner_billows({billow(-60, 0.05), billow(10, 0.02), billow(50, 0.04), billow(120, 0.08)});
     ASSERT_EQ(split.folds.size(), 2u);
     EXPECT_EQ(split.folds[0].angle_deg, -60);

@@ -23,11 +23,11 @@ std::vector<Billow> billows(const std::vector<double>& angles_deg)
 
 TEST(LeavingFolds, BillowsBeyondTheConeAreSideWavesNotFolds)
 {
-    // A side wave at 110 degrees (the cube's sit at 99-132) and one at -80.5 leave nothing.
-    EXPECT_TRUE(leaving(billows({110, -80.5})).empty());
-    const auto kept = leaving(billows({-80, 30, 99}));
+    // A side wave at 110 degrees (the cube's sit at 99-132) and one at -90.5 leave nothing.
+    EXPECT_TRUE(leaving(billows({110, -90.5})).empty());
+    const auto kept = leaving(billows({-90, 30, 99}));
     ASSERT_EQ(kept.size(), 2u);
-    EXPECT_EQ(kept[0].angle_deg, -80);
+    EXPECT_EQ(kept[0].angle_deg, -90);
     EXPECT_EQ(kept[1].angle_deg, 30);
 }
 

@@ -155,7 +155,7 @@ TEST(SceneFile, DefaultsAndAllSections)
     const std::string text = cube_scene("rotation_deg = 30\npinned = [[0, 0], [10, 0]]\nclamped_edges = [\"j1\"]\n",
                                         "[solver]\nkind = \"paper\"\nseed = 7\nmax_steps = 100\nresidual_tolerance = 0.01\n"
                                         "move_tolerance_m = 1e-6\ntime_step_s = 0.01\ncontact_distance_m = 0.002\n"
-                                        "viscosity_per_s = 1.5\nfriction = 0.4\nthreads = 2\ncreep_softening = 1\n"
+                                        "viscosity_per_s = 1.5\nfriction = 0.4\nthreads = 2\ncreep_softening = 1\nfall_duration_s = 1.5\n"
                                         "[model]\nbending_form = \"work\"\nshear_law = \"measured\"\ngram_force = \"standard\"\ngravity_m_s2 = 9.81\nC0_J = 0.5\n"
                                         "[camera]\neye_m = [1, 2, 3]\ntarget_m = [0, 0, 0]\nfov_deg = 40\n");
     std::vector<std::string> warnings;
@@ -174,6 +174,7 @@ TEST(SceneFile, DefaultsAndAllSections)
     EXPECT_DOUBLE_EQ(s.solver.friction, 0.4);
     EXPECT_EQ(s.solver.threads, 2);
     EXPECT_DOUBLE_EQ(s.solver.fast.creep_softening, 1.0);  // the continuation off
+    EXPECT_DOUBLE_EQ(s.solver.fast.fall_duration, 1.5);
     EXPECT_EQ(s.model.bending_form, model::BendingForm::WORK);
     EXPECT_EQ(s.model.shear_law, model::ShearLaw::MEASURED);
     EXPECT_EQ(s.model.gram_force, units::GramForce::STANDARD);

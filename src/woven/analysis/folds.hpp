@@ -131,10 +131,13 @@ const char* to_string(CornerStructure s);
 /// A billow this close to the corner's diagonal (degrees) leaves the corner "at 45 degrees".
 inline constexpr double kDiagonalToleranceDeg = 15.0;
 
-/// Billows further than this from the diagonal (deg) stand well in front of a side (45 deg is
-/// the side's normal): a wave of the side's panel, not a fold leaving the corner. On the cube
-/// the side waves sit at 99-132 deg, the corner folds within 70 deg: 80 separates them.
-inline constexpr double kCornerConeDeg = 80;
+/// Billows further than this from the diagonal (deg) point back along a side more than they
+/// continue it (45 deg is the side's line continued past the corner, 135 along the side): a wave
+/// of the side's panel, not a fold leaving the corner. 90 is the bisector, and it falls in the
+/// gap of every cube drape measured (docs/EXPERIMENTS.md, "Reading a corner"): corner folds
+/// within 86 deg, side waves at 99-132 deg. (80 cut through the folds: the fast solver's
+/// cotton folds at 81-84 deg stand out as far as their partners at 50-55 deg.)
+inline constexpr double kCornerConeDeg = 90;
 
 /// A billow in the cone that stands out less than this fraction of the corner's largest is a
 /// ripple on the flank of the corner's fold, not a fold of its own: a person counting the folds

@@ -90,7 +90,10 @@ nlohmann::json drape_report(const DrapeReportInput& in)
     j["max_steps"] = in.solver->max_steps;
     j.update(solver_result_json(r, in.solver->kind == sim::SolverKind::FAST));
     j["interrupted"] = in.interrupted || r.interrupted;
-    if (in.solver->kind == sim::SolverKind::FAST) j["creep_softening"] = in.solver->fast.creep_softening;
+    if (in.solver->kind == sim::SolverKind::FAST) {
+        j["creep_softening"] = in.solver->fast.creep_softening;
+        j["fall_duration_s"] = in.solver->fast.fall_duration;
+    }
     j["simulated_time_s"] = num(r.simulated_time);
     j["energy"] = energy_json(r.energy);
     j["energy_initial_J"] = num(in.energy_initial);
@@ -188,6 +191,7 @@ std::string folds_summary(const nlohmann::json& f)
                 s << buf;
             }
             if (!angles.empty()) s << ")";
+            if (corner["structure"][h].is_string()) s << ": " << corner["structure"][h].get<std::string>();
         }
         s << "\n";
     }

@@ -381,7 +381,9 @@ ExperimentResult run_cube(const ExperimentRequest& o)
     md << "\n## How often each corner structure appears\n\nOver all seeds and the four corners, on the section " << strf("%.2f", depths[0])
        << " m below the top. Only billows within " << strf("%.0f", kCornerConeDeg)
        << " degrees of the corner's diagonal count as leaving the corner (further round a billow stands in front of a side: "
-       << "a wave of the side's panel); a single one counts as on the diagonal within " << strf("%.0f", kDiagonalToleranceDeg)
+       << "a wave of the side's panel), and of those only the ones standing out at least " << strf("%.2g", analysis::kFoldStandoutFraction)
+       << " of the corner's largest (a smaller one is a ripple on a fold's flank); a single one counts as on the diagonal within "
+       << strf("%.0f", kDiagonalToleranceDeg)
        << " degrees of it:\n\n";
     md << "| fabric | corners | single, on the diagonal | single, off the diagonal | two or more folds | none | mean angle of single "
           "billows (deg) | mean abs angle (deg) | distinct drapes |\n|---|---|---|---|---|---|---|---|---|\n";
@@ -512,7 +514,8 @@ std::string map_markdown(const ExperimentRequest& o, const std::vector<MapCell>&
        << " gf/(cm.deg)), bending from the bending length c and the warp/weft ratio; one drape each (seed 1) over the cube, "
        << "section 0.10 m below the top. Cell: the structure most corners show, the mean count per corner of billows leaving it (within "
        << strf("%.0f", kCornerConeDeg)
-       << " degrees of the diagonal), the mean |angle| of single ones from the diagonal; the last column lists every billow in each "
+       << " degrees of the diagonal and standing out at least " << strf("%.2g", analysis::kFoldStandoutFraction)
+       << " of the corner's largest), the mean |angle| of single ones from the diagonal; the last column lists every billow in each "
           "corner's quadrant.\n\n";
     md << "| warp/weft | c (cm) | B warp | B weft | structure | billows/corner | mean abs angle (deg) | corners (count (angles)) "
           "|\n|---|---|---|---|---|---|---|---|\n";

@@ -188,6 +188,7 @@ void parse_solver(const TomlTable& t, sim::SolverOptions& o)
     o.threads = static_cast<int>(t.integer("threads", 0, kMaxThreads, o.threads));
     o.perturbation = t.number("perturbation_m", Range{0, kMaxPerturbation_m, false, "m"}, o.perturbation);
     o.fast.creep_softening = t.number("creep_softening", Range{1, kMaxCreepSoftening, false, ""}, o.fast.creep_softening);
+    o.fast.fall_duration = t.number("fall_duration_s", Range{0, kMaxFallDuration_s, false, "s"}, o.fast.fall_duration);
 }
 
 void parse_model(const TomlTable& t, model::ModelOptions& o)

@@ -28,6 +28,7 @@ inline constexpr double kMaxContactFraction = 1.0;  ///< largest contact distanc
 inline constexpr int kMaxThreads = 4096;            ///< largest thread count asked for
 inline constexpr double kMaxPerturbation_m = 0.01;  ///< largest start perturbation (m)
 inline constexpr double kMaxCreepSoftening = 1e4;   ///< largest creep continuation softening (threads that much softer)
+inline constexpr double kMaxFallDuration_s = 100;  ///< longest fall of the fast solver held at its first step (s)
 
 /// The cloth's starting state: a flat nu x nv grid of particles, spacing sigma, at a height.
 struct ClothSpec {

@@ -49,7 +49,14 @@ struct LineSearchOptions {
 struct FastSolverOptions {
     int max_newton_iterations = 120;  ///< per step; a step that needs more is halved
     double static_time_step = 1.0;    ///< s: from this step on, Newton is solved to the final tolerance
-    double step_growth = 2.0;         ///< step factor after a converged Newton solve
+    double step_growth = 2.0;         ///< step factor after a converged Newton solve (after the fall)
+    /// s: the fall. Until this much simulated time has passed the steps stay at the first step's
+    /// size (SolverOptions::time_step), then they grow by step_growth; 0 (the default): they grow
+    /// from the first step. Backward Euler's numerical damping grows with the step, so this
+    /// chooses how much of the falling cloth's swing survives, and with it which of the cube's
+    /// nearly equal rest states a drape lands in; measured in docs/SOLVER.md "The fall", where
+    /// no step size gave the paper's cotton/wool/polyester-cotton contrast.
+    double fall_duration = 0.0;
     double damping = 2.0;             ///< 1/s: viscous medium, v <- v / (1 + damping h)
     double dynamic_tolerance = 0.1;   ///< Newton tolerance of dynamic steps, residual force / (m g)
     /// a dynamic step's Newton has also converged when no particle moves more than this, in

@@ -312,8 +312,10 @@ bool FastStepper::advance(const IterationCallback& on_iteration)
     // short steps, and the steps lengthen (and damp more) as it settles. Growing only
     // after easy solves (<= 15 iterations) took 2.5 times the Newton iterations on the
     // 51 x 51 cube.
+    // During the fall (FastSolverOptions::fall_duration) a converged step is followed by one
+    // of the first step's size, not a longer one.
     if (newton_converged)
-        h = std::min(fo.step_growth * h, kMaxTimeStep);
+        h = time_ < fo.fall_duration ? options.time_step : std::min(fo.step_growth * h, kMaxTimeStep);
     else
         h = std::max(kStepShrink * h, kMinTimeStep);
     return true;
