@@ -127,6 +127,17 @@ bool call_progress(py::handle progress, py::dict info, std::optional<py::error_a
 /// True (and the interpreter's error cleared) when a signal handler raised, i.e. Ctrl-C was
 /// pressed; call with the GIL held.
 bool signal_seen();
+/// True once the interpreter is shutting down (a daemon thread still in a woven call): from its
+/// atexit callbacks on (stop_calls_at_exit), or finalizing. A running call stops at its next step
+/// and must not take the GIL once it is finalizing.
+bool interpreter_finalizing();
+/// Registered with Python's atexit (the module's init): asks a woven call running on another
+/// thread to stop, and waits for it (at most 30 s, the GIL released), so that no solve still
+/// runs while the process exits (issue 53: "pure virtual method called", SIGSEGV, SIGABRT).
+void stop_calls_at_exit();
+/// On a thread without the GIL, before it takes it back: when the interpreter is shutting down,
+/// waits for the process to end instead of returning (issue 53: SIGABRT at exit).
+void wait_out_finalization();
 
 // One function per file, called by module.cpp.
 void bind_fabric_scene(py::module_& m);  // fabric_scene.cpp

@@ -1,8 +1,10 @@
 // Python values to woven's and back, warnings, and a command's code run from Python (bindings.hpp).
+#include <atomic>
 #include <chrono>
 #include <limits>
 #include <mutex>
 #include <string_view>
+#include <thread>
 
 #include "bindings.hpp"
 #include "woven/app/progress.hpp"
@@ -74,6 +76,7 @@ nlohmann::json value(py::handle v, const std::string& source, const std::string&
 /// The interrupt poll of a job run from Python (app::Monitor::interrupt).
 bool poll_python()
 {
+    if (interpreter_finalizing()) return true;  // stop; the GIL is not to be taken
     py::gil_scoped_acquire gil;
     return signal_seen();
 }
@@ -205,6 +208,33 @@ FabricArg fabric_arg(py::handle fabric)
     return a;
 }
 
+namespace {
+
+std::atomic<bool> g_exiting{false};  ///< set by stop_calls_at_exit
+
+}  // namespace
+
+/// The interpreter itself is finalizing: the GIL must not be taken.
+bool python_finalizing()
+{
+#if PY_VERSION_HEX >= 0x030D0000
+    return Py_IsFinalizing() != 0;
+#else
+    return _Py_IsFinalizing() != 0;
+#endif
+}
+
+bool interpreter_finalizing() { return g_exiting.load() || python_finalizing(); }
+
+void wait_out_finalization()
+{
+    if (!python_finalizing()) return;  // at exit but not yet finalizing: return (and release the call) as usual
+    // Taking the GIL now would end this thread inside C++ (Python 3.11: pthread_exit, whose
+    // unwinding aborts at the first noexcept frame: "exception not rethrown"); the process is
+    // ending: wait for it, touching nothing.
+    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+}
+
 bool signal_seen()
 {
     if (PyErr_CheckSignals() == 0) return false;
@@ -240,6 +270,12 @@ CallLock::CallLock()
             }
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         }
+        // Once the interpreter's atexit callbacks run (stop_calls_at_exit, which holds the GIL
+        // as this check does) no call starts: it could not finish before the interpreter does.
+        if (g_exiting.load()) {
+            g_call_mutex.unlock();
+            throw RuntimeError("the interpreter is exiting: no woven call starts now");
+        }
     } catch (...) {
         --t_call_depth;
         throw;
@@ -249,6 +285,14 @@ CallLock::CallLock()
 CallLock::~CallLock()
 {
     if (--t_call_depth == 0) g_call_mutex.unlock();
+}
+
+void stop_calls_at_exit()
+{
+    g_exiting = true;
+    if (t_call_depth > 0) return;  // this thread's own call (an atexit callback inside one): nothing to wait for
+    const py::gil_scoped_release release;
+    if (g_call_mutex.try_lock_for(std::chrono::seconds(30))) g_call_mutex.unlock();
 }
 
 InCallback::InCallback() { ++t_callback_depth; }
@@ -288,7 +332,11 @@ bool call_progress(py::handle progress, py::dict info, std::optional<py::error_a
     try {
         const InCallback in_callback;
         const py::object answer = progress(info);
-        return answer.ptr() != Py_False;
+        // Python's truth, not the object False: numpy's False and 0 stop too; None goes on.
+        if (answer.is_none()) return true;
+        const int truth = PyObject_IsTrue(answer.ptr());
+        if (truth < 0) throw py::error_already_set();
+        return truth != 0;
     } catch (py::error_already_set& e) {
         if (!e.matches(PyExc_KeyboardInterrupt) && !error) error = std::move(e);
         return false;
@@ -310,15 +358,19 @@ void run_command(const std::function<void(const app::Monitor&)>& f, py::handle p
             // The ends of a drape's steps and of an activity are for a display: not passed on.
             const std::string_view kind = e.event;
             if (kind == "steps-end" || kind == "activity-end") return true;
+            if (interpreter_finalizing()) return false;
             py::gil_scoped_acquire gil;
             if (signal_seen()) return false;
             return call_progress(progress, event_dict(e), callback_error);
         };
-    try {
+    {
         py::gil_scoped_release release;
-        f(monitor);
-    } catch (...) {
-        failure = std::current_exception();
+        try {
+            f(monitor);
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        wait_out_finalization();  // before the GIL is taken back
     }
     if (callback_error) throw std::move(*callback_error);
     if (failure) std::rethrow_exception(failure);

@@ -114,6 +114,7 @@ public:
     sim::ProgressCallback on_step()
     {
         return [this](const sim::StepInfo& s) {
+            if (interpreter_finalizing()) return false;
             py::gil_scoped_acquire gil;
             py::dict info;
             info["event"] = "step";
@@ -131,6 +132,7 @@ public:
     sim::IterationCallback on_iteration()
     {
         return [this](const sim::IterationInfo& i) {
+            if (interpreter_finalizing()) return false;
             py::gil_scoped_acquire gil;
             py::dict info;
             info["event"] = "iteration";
@@ -187,10 +189,17 @@ DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::obje
     const app::DrapeSetup& setup = *r.setup;
     SolveCallbacks callbacks(progress, setup);
     sim::Result result;
+    std::exception_ptr failure;
     {
         py::gil_scoped_release release;
-        result = app::solve_drape(setup, callbacks.on_step(), callbacks.on_iteration());
+        try {
+            result = app::solve_drape(setup, callbacks.on_step(), callbacks.on_iteration());
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        wait_out_finalization();  // a daemon thread's drape at interpreter exit
     }
+    if (failure) std::rethrow_exception(failure);
     callbacks.raise_error();
 
     // 3. The state reached, measured, and its report (report.json without `files`).

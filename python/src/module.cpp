@@ -31,4 +31,6 @@ PYBIND11_MODULE(_woven, m)
     bind_fabric_scene(m);
     bind_drape(m);
     bind_testers(m);
+    // A woven call on a daemon thread is stopped before the interpreter finalizes (issue 53).
+    py::module_::import("atexit").attr("register")(py::cpp_function(&stop_calls_at_exit));
 }

@@ -26,9 +26,25 @@ def test_initial_positions_of_another_grid_or_shape_are_refused():
     with pytest.raises(TypeError, match=r"\(n, 3\) array"):
         woven.drape("sphere", grid=9, threads=1, initial_positions=np.zeros((81, 2)))
     bad = np.zeros((81, 3))
+    bad[:, 2] = 2.0  # above the sphere
     bad[5, 1] = np.nan
-    with pytest.raises(woven.InputError, match="initial_positions: values: expected finite"):
+    with pytest.raises(woven.InputError, match=r"initial_positions: values: row 5: expected finite positions \(m\)"):
         woven.drape("sphere", grid=9, threads=1, initial_positions=bad)
+
+
+def test_initial_positions_are_checked_as_the_flat_start_is():
+    # Issue 53 item 2: inside an obstacle (here on the floor) or beyond the scene's bounds was
+    # draped; rows are counted from 0, as numpy counts them.
+    start = np.zeros((81, 3))
+    start[:, 2] = 2.0
+    floor = start.copy()
+    floor[3, 2] = -0.01
+    with pytest.raises(woven.InputError, match=r"initial_positions: values: row 3: the position \(0, 0, -0.01\) m lies inside or touches obstacle\[1\] \(plane\)"):
+        woven.drape("sphere", grid=9, threads=1, initial_positions=floor)
+    far = start.copy()
+    far[80, 0] = 1e7
+    with pytest.raises(woven.InputError, match=r"row 80: the position \(10000000, 0, 2\) m lies outside the scene's bounds"):
+        woven.drape("sphere", grid=9, threads=1, initial_positions=far)
 
 
 def test_bias_bending_is_an_option():
