@@ -144,5 +144,6 @@ void bind_fabric_scene(py::module_& m);  // fabric_scene.cpp
 void bind_drape(py::module_& m);         // drape.cpp
 void bind_testers(py::module_& m);       // testers.cpp
 void bind_obstacle(py::module_& m);      // obstacle.cpp
+void bind_garment(py::module_& m);       // garment.cpp
 
 }  // namespace woven::python

@@ -31,6 +31,7 @@ PYBIND11_MODULE(_woven, m)
     bind_fabric_scene(m);
     bind_drape(m);
     bind_testers(m);
+    bind_garment(m);
     // A woven call on a daemon thread is stopped before the interpreter finalizes (issue 53).
     py::module_::import("atexit").attr("register")(py::cpp_function(&stop_calls_at_exit));
 }

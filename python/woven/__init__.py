@@ -48,6 +48,7 @@ from ._woven import (  # noqa: E402
     drape,
     fabrics,
     fit,
+    garment,
     kes_test,
     scenes,
 )
@@ -66,6 +67,7 @@ __all__ = [
     "drape",
     "fabrics",
     "fit",
+    "garment",
     "kes_test",
     "scenes",
 ]

@@ -123,6 +123,7 @@ void add_kes_test_command(CLI::App& app, int& exit_code);  // cmd_kes_test.cpp
 void add_drape_command(CLI::App& app, int& exit_code);
 void add_render_command(CLI::App& app, int& exit_code);      // cmd_render.cpp
 void add_cusick_command(CLI::App& app, int& exit_code);      // cmd_cusick.cpp
+void add_garment_command(CLI::App& app, int& exit_code);     // cmd_garment.cpp
 void add_experiment_command(CLI::App& app, int& exit_code);  // cmd_experiment.cpp
 void add_check_command(CLI::App& app, int& exit_code);       // cmd_check.cpp
 void add_sweep_command(CLI::App& app, int& exit_code);       // cmd_sweep.cpp

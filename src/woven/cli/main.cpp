@@ -88,6 +88,7 @@ int main(int argc, char** argv)
     add_render_command(app, exit_code);
 #if __has_include("cmd_cusick.cpp")
     add_cusick_command(app, exit_code);
+    add_garment_command(app, exit_code);
 #endif
     add_experiment_command(app, exit_code);
     add_check_command(app, exit_code);

@@ -22,6 +22,7 @@ double& EnergyTerms::operator[](Term t)
     case Term::BENDING_WEFT: return bending_weft;
     case Term::TRELLIS: return trellis;
     case Term::TWIST: return twist;
+    case Term::SEAM: return seam;
     }
     assert(false);
     return gravity;
@@ -136,6 +137,18 @@ void ClothModel::update_slip(const Positions& x)
     if (slip_.shear.active()) update(slip_trellis_term(), slip_.shear, stencils_.crossings, shear_state_);
 }
 
+void ClothModel::set_seams(SeamSet seams, double stiffness)
+{
+    assert(seams_.empty());
+    std::sort(seams.unrepelled.begin(), seams.unrepelled.end());
+    seams.unrepelled.erase(std::unique(seams.unrepelled.begin(), seams.unrepelled.end()), seams.unrepelled.end());
+    seams_ = std::move(seams);
+    seam_stencils_.clear();
+    for (const Stitch& s : seams_.stitches) seam_stencils_.push_back(s.ids);
+    couple_stitches(stencils_, seams_.stitches);
+    set_seam_stiffness(stiffness);
+}
+
 EnergyTerms ClothModel::evaluate(const Positions& x) const
 {
     detail::NoSink none;
@@ -205,6 +218,8 @@ std::vector<Stencil<2>> ClothModel::close_pairs(const Positions& x, double radiu
                 }
     }
     std::sort(pairs.begin(), pairs.end());  // deterministic order of summation
+    if (!seams_.unrepelled.empty())  // edges sewn together: not pressed apart (seams.hpp)
+        std::erase_if(pairs, [&](const Stencil<2>& c) { return std::binary_search(seams_.unrepelled.begin(), seams_.unrepelled.end(), c); });
     return pairs;
 }
 

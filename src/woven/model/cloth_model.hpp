@@ -24,6 +24,7 @@
 #include "woven/kes/fit.hpp"
 #include "woven/model/energy_functions.hpp"
 #include "woven/model/grid.hpp"
+#include "woven/model/seams.hpp"
 #include "woven/model/slip.hpp"
 #include "woven/model/stencils.hpp"
 #include "woven/model/terms.hpp"
@@ -34,7 +35,8 @@ namespace woven::model {
 struct EnergyTerms {
     double repulsion = 0, stretch = 0, bending_warp = 0, bending_weft = 0, trellis = 0, gravity = 0;
     double twist = 0;  ///< beyond the paper: the bias bending (TwistTerm); 0 without it
-    double total() const { return repulsion + stretch + bending_warp + bending_weft + trellis + gravity + twist; }
+    double seam = 0;   ///< beyond the paper: a garment's stitches (seams.hpp); 0 without seams
+    double total() const { return repulsion + stretch + bending_warp + bending_weft + trellis + gravity + twist + seam; }
     double& operator[](Term t);
     double operator[](Term t) const { return const_cast<EnergyTerms&>(*this)[t]; }
 };
@@ -218,6 +220,18 @@ public:
     }
     SlipTrellisTerm slip_trellis_term() const { return SlipTrellisTerm(slip_.shear); }
 
+    /// Sews the cloth (seams.hpp): the stitches join the energy with stiffness k (N/m), their
+    /// particles are coupled in stencils(), and the `unrepelled` pairs leave close_pairs. Once.
+    void set_seams(SeamSet seams, double stiffness);
+    /// The stitches' stiffness k (N/m, >= 0): a drape ramps it up between sim::drape calls.
+    void set_seam_stiffness(double stiffness)
+    {
+        assert(stiffness >= 0 && std::isfinite(stiffness));
+        seam_stiffness_ = stiffness;
+    }
+    double seam_stiffness() const { return seam_stiffness_; }
+    const SeamSet& seams() const { return seams_; }
+
     StretchTerm stretch_term() const { return StretchTerm(spacing_); }
     RepulsionTerm repulsion_term() const { return RepulsionTerm(spacing_); }
     BendingTerm bending_term(Term warp_or_weft) const { return BendingTerm(warp_or_weft == Term::BENDING_WARP ? warp_ : weft_); }
@@ -238,6 +252,9 @@ private:
     Hysteresis hysteresis_ = Hysteresis::LOADING_BRANCH;
     SlipLaws slip_;
     std::vector<SlipState> warp_state_, weft_state_, shear_state_;
+    SeamSet seams_;
+    std::vector<Stencil<9>> seam_stencils_;  ///< Stitch::ids of each stitch
+    double seam_stiffness_ = 0;
 };
 
 /// The friction laws of a fabric (slip.hpp, KES units): for each curve given by summary values,
@@ -355,6 +372,11 @@ EnergyTerms ClothModel::evaluate(const Positions& x, Derivatives what, Sink& sin
                                                 stencils_.weft_weights, x, what, sink);
     if (slip_.shear.active())
         e.trellis += detail::add_slip_term(Term::TRELLIS, slip_trellis_term(), shear_state_, stencils_.crossings, stencils_.crossing_weights, x, what, sink);
+    // A garment's stitches (seams.hpp), each with its own fraction w.
+    if (!seams_.empty() && seam_stiffness_ > 0)
+        e.seam = detail::add_stencils<9>(
+            Term::SEAM, [&](std::size_t n, const VecN<27>& xl, Derivatives w) { return SeamTerm(seam_stiffness_, seams_.stitches[n].c).evaluate(xl, w); },
+            seam_stencils_, {}, x, what, sink);
     return e;
 }
 

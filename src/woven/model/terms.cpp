@@ -17,6 +17,7 @@ const char* term_name(Term term)
     case Term::BENDING_WEFT: return "bending_weft";
     case Term::TRELLIS: return "trellis";
     case Term::TWIST: return "twist";
+    case Term::SEAM: return "seam";
     }
     return "?";
 }

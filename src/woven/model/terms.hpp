@@ -30,9 +30,10 @@ inline bool wants_hessian(Derivatives what) { return what == Derivatives::HESSIA
 
 /// The terms of Eq. (1); EnergyTerms has one field per term.
 /// TWIST is beyond the paper: the bias bending of docs/MODEL.md ("The bias term"), TwistTerm.
-enum class Term { GRAVITY, STRETCH, REPULSION, BENDING_WARP, BENDING_WEFT, TRELLIS, TWIST };
-inline constexpr Term kAllTerms[] = {Term::GRAVITY, Term::STRETCH, Term::REPULSION, Term::BENDING_WARP, Term::BENDING_WEFT, Term::TRELLIS, Term::TWIST};
-/// "gravity", "stretch", "repulsion", "bending_warp", "bending_weft", "trellis", "twist".
+/// SEAM is beyond the paper too: the stitches of a garment's seams (seams.hpp, SeamTerm).
+enum class Term { GRAVITY, STRETCH, REPULSION, BENDING_WARP, BENDING_WEFT, TRELLIS, TWIST, SEAM };
+inline constexpr Term kAllTerms[] = {Term::GRAVITY, Term::STRETCH, Term::REPULSION, Term::BENDING_WARP, Term::BENDING_WEFT, Term::TRELLIS, Term::TWIST, Term::SEAM};
+/// "gravity", "stretch", "repulsion", "bending_warp", "bending_weft", "trellis", "twist", "seam".
 const char* term_name(Term term);
 
 /// One term on one N-particle stencil.
