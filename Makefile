@@ -55,7 +55,7 @@ $(FUZZ_BUILD)/build.ninja:
 		-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined
 
 build-fuzz: deps $(FUZZ_BUILD)/build.ninja
-	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_fabric fuzz_scene fuzz_obj fuzz_gltf fuzz_values fuzz_corner_map fuzz_output_set fuzz_output_json fuzz_sweep_plan fuzz_glb_check
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_fabric fuzz_scene fuzz_obj fuzz_gltf fuzz_values fuzz_corner_map fuzz_output_set fuzz_output_json fuzz_sweep_plan fuzz_glb_check fuzz_start fuzz_shadow
 
 fuzz: build-fuzz
 	bash fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)

@@ -7,15 +7,15 @@ build=${1:?usage: run.sh BUILD [SECONDS] [TARGETS...]}
 seconds=${2:-60}
 shift $(( $# >= 2 ? 2 : $# ))
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf values corner_map output_set output_json sweep_plan glb_check)
+[[ ${#targets[@]} -gt 0 ]] || targets=(fabric scene obj gltf values corner_map output_set output_json sweep_plan glb_check start shadow)
 root=$(cd "$(dirname "$0")/.." && pwd)
 # Seeds are folders (libFuzzer runs a file argument once and stops); the corner map's are its
 # corpus, which holds a small valid map (docs/experiments' are 50 kB, over -max_len).
 declare -A seeds=([fabric]="$root/fabrics" [scene]="$root/scenes" [obj]="$root/assets" [gltf]="$root/assets $root/fuzz/corpus/obj"
-                  [values]="" [corner_map]="" [output_set]="" [output_json]="" [sweep_plan]="$root/examples" [glb_check]="")
+                  [values]="" [corner_map]="" [output_set]="" [output_json]="" [sweep_plan]="$root/examples" [glb_check]="" [start]="" [shadow]="")
 declare -A dicts=([fabric]="-dict=$root/fuzz/toml.dict" [scene]="-dict=$root/fuzz/toml.dict" [obj]="-dict=$root/fuzz/obj.dict"
                   [gltf]="-dict=$root/fuzz/obj.dict" [values]="-dict=$root/fuzz/values.dict" [corner_map]="-dict=$root/fuzz/json.dict" [output_set]=""
-                  [output_json]="-dict=$root/fuzz/json.dict" [sweep_plan]="-dict=$root/fuzz/toml.dict" [glb_check]="")
+                  [output_json]="-dict=$root/fuzz/json.dict" [sweep_plan]="-dict=$root/fuzz/toml.dict" [glb_check]="" [start]="-dict=$root/fuzz/obj.dict" [shadow]="")
 # Per-input time limits: 20 s; a sweep plan may hold 10^6 values (1 s in Release, about 25 s
 # instrumented on the shared 2-core machine: slow, not a hang).
 declare -A timeouts=([sweep_plan]=90)

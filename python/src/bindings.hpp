@@ -61,6 +61,11 @@ nlohmann::json to_values(py::handle value, const std::string& source);
 py::object to_python(const nlohmann::json& j);
 /// The text a command line would carry for an option's value: None -> nullopt, str as is,
 /// os.PathLike as its path, anything else as str(value) (repr for a float, which reads back).
+/// An InputError's message as Python shows it: a field named by a command-line option of the
+/// command line ("command line: --max-steps: ...") is named by its keyword ("max_steps: ...").
+std::string python_message(const InputError& e);
+/// The keyword of a command-line option: "--max-steps" -> "max_steps".
+std::string keyword_of(const std::string& option);
 std::optional<std::string> option_text(py::handle value);
 /// The typed value of an option given as a Python value (its text, as option_text): None ->
 /// nullopt; InputError "command line: <option>: expected ..." as the command's own for a value
@@ -122,6 +127,17 @@ bool call_progress(py::handle progress, py::dict info, std::optional<py::error_a
 /// True (and the interpreter's error cleared) when a signal handler raised, i.e. Ctrl-C was
 /// pressed; call with the GIL held.
 bool signal_seen();
+/// True once the interpreter is shutting down (a daemon thread still in a woven call): from its
+/// atexit callbacks on (stop_calls_at_exit), or finalizing. A running call stops at its next step
+/// and must not take the GIL once it is finalizing.
+bool interpreter_finalizing();
+/// Registered with Python's atexit (the module's init): asks a woven call running on another
+/// thread to stop, and waits for it (at most 30 s, the GIL released), so that no solve still
+/// runs while the process exits (issue 53: "pure virtual method called", SIGSEGV, SIGABRT).
+void stop_calls_at_exit();
+/// On a thread without the GIL, before it takes it back: when the interpreter is shutting down,
+/// waits for the process to end instead of returning (issue 53: SIGABRT at exit).
+void wait_out_finalization();
 
 // One function per file, called by module.cpp.
 void bind_fabric_scene(py::module_& m);  // fabric_scene.cpp

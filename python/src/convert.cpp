@@ -1,7 +1,10 @@
 // Python values to woven's and back, warnings, and a command's code run from Python (bindings.hpp).
+#include <atomic>
 #include <chrono>
+#include <limits>
 #include <mutex>
 #include <string_view>
+#include <thread>
 
 #include "bindings.hpp"
 #include "woven/app/progress.hpp"
@@ -73,6 +76,7 @@ nlohmann::json value(py::handle v, const std::string& source, const std::string&
 /// The interrupt poll of a job run from Python (app::Monitor::interrupt).
 bool poll_python()
 {
+    if (interpreter_finalizing()) return true;  // stop; the GIL is not to be taken
     py::gil_scoped_acquire gil;
     return signal_seen();
 }
@@ -122,32 +126,73 @@ std::optional<std::string> option_text(py::handle v)
     return py::str(v).cast<std::string>();
 }
 
+std::string keyword_of(const std::string& option)
+{
+    std::string k = option.rfind("--", 0) == 0 ? option.substr(2) : option;
+    for (char& c : k)
+        if (c == '-') c = '_';
+    return k;
+}
+
+std::string python_message(const InputError& e)
+{
+    if (e.source() != app::kCommandLine || e.field().rfind("--", 0) != 0) return e.what();
+    const std::string prefix = e.source() + ": " + e.field() + ": ";
+    const std::string what = e.what();
+    return keyword_of(e.field()) + ": " + (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+}
+
+namespace {
+
+/// A Python int (not a bool) as it is; nullopt for any other type or one beyond 64 bits.
+std::optional<long long> python_integer(py::handle v)
+{
+    if (!PyLong_Check(v.ptr()) || PyBool_Check(v.ptr())) return std::nullopt;
+    int overflow = 0;
+    const long long value = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    if (overflow != 0) return std::nullopt;  // read as text: the message shows the value given
+    return value;
+}
+
+/// A Python int or float as a double; nullopt for any other type.
+std::optional<double> python_number(py::handle v)
+{
+    if (PyBool_Check(v.ptr())) return std::nullopt;
+    if (PyFloat_Check(v.ptr())) return PyFloat_AsDouble(v.ptr());
+    if (PyLong_Check(v.ptr())) return v.cast<double>();
+    return std::nullopt;
+}
+
+}  // namespace
+
+// Typed values go to the range checks as they are (no text); a string is read as the command
+// reads its option's text.
 std::optional<long long> integer_arg(py::handle v, const std::string& option, long long lo, long long hi)
 {
-    const std::optional<std::string> text = option_text(v);
-    if (!text) return std::nullopt;
-    return app::integer_from_text(*text, option, lo, hi);
+    if (v.is_none()) return std::nullopt;
+    if (const auto i = python_integer(v)) return app::integer_in_range(*i, option, lo, hi);
+    return app::integer_from_text(*option_text(v), option, lo, hi);
 }
 
 std::optional<std::uint64_t> seed_arg(py::handle v, const std::string& option)
 {
-    const std::optional<std::string> text = option_text(v);
-    if (!text) return std::nullopt;
-    return app::seed_from_text(*text, option);
+    if (v.is_none()) return std::nullopt;
+    if (const auto i = python_integer(v); i && *i >= 0) return static_cast<std::uint64_t>(*i);
+    return app::seed_from_text(*option_text(v), option);
 }
 
 std::optional<double> number_arg(py::handle v, const std::string& option, double lo, double hi)
 {
-    const std::optional<std::string> text = option_text(v);
-    if (!text) return std::nullopt;
-    return app::number_from_text(*text, option, lo, hi);
+    if (v.is_none()) return std::nullopt;
+    if (const auto x = python_number(v)) return app::number_in_range(*x, option, lo, hi);
+    return app::number_from_text(*option_text(v), option, lo, hi);
 }
 
 std::optional<double> positive_arg(py::handle v, const std::string& option, double hi)
 {
-    const std::optional<std::string> text = option_text(v);
-    if (!text) return std::nullopt;
-    return app::positive_from_text(*text, option, hi);
+    if (v.is_none()) return std::nullopt;
+    if (const auto x = python_number(v)) return app::positive_in_range(*x, option, hi);
+    return app::positive_from_text(*option_text(v), option, hi);
 }
 
 FabricArg fabric_arg(py::handle fabric)
@@ -161,6 +206,33 @@ FabricArg fabric_arg(py::handle fabric)
         a.name = option_text(fabric).value_or("");
     }
     return a;
+}
+
+namespace {
+
+std::atomic<bool> g_exiting{false};  ///< set by stop_calls_at_exit
+
+}  // namespace
+
+/// The interpreter itself is finalizing: the GIL must not be taken.
+bool python_finalizing()
+{
+#if PY_VERSION_HEX >= 0x030D0000
+    return Py_IsFinalizing() != 0;
+#else
+    return _Py_IsFinalizing() != 0;
+#endif
+}
+
+bool interpreter_finalizing() { return g_exiting.load() || python_finalizing(); }
+
+void wait_out_finalization()
+{
+    if (!python_finalizing()) return;  // at exit but not yet finalizing: return (and release the call) as usual
+    // Taking the GIL now would end this thread inside C++ (Python 3.11: pthread_exit, whose
+    // unwinding aborts at the first noexcept frame: "exception not rethrown"); the process is
+    // ending: wait for it, touching nothing.
+    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
 }
 
 bool signal_seen()
@@ -198,6 +270,12 @@ CallLock::CallLock()
             }
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         }
+        // Once the interpreter's atexit callbacks run (stop_calls_at_exit, which holds the GIL
+        // as this check does) no call starts: it could not finish before the interpreter does.
+        if (g_exiting.load()) {
+            g_call_mutex.unlock();
+            throw RuntimeError("the interpreter is exiting: no woven call starts now");
+        }
     } catch (...) {
         --t_call_depth;
         throw;
@@ -207,6 +285,14 @@ CallLock::CallLock()
 CallLock::~CallLock()
 {
     if (--t_call_depth == 0) g_call_mutex.unlock();
+}
+
+void stop_calls_at_exit()
+{
+    g_exiting = true;
+    if (t_call_depth > 0) return;  // this thread's own call (an atexit callback inside one): nothing to wait for
+    const py::gil_scoped_release release;
+    if (g_call_mutex.try_lock_for(std::chrono::seconds(30))) g_call_mutex.unlock();
 }
 
 InCallback::InCallback() { ++t_callback_depth; }
@@ -246,7 +332,11 @@ bool call_progress(py::handle progress, py::dict info, std::optional<py::error_a
     try {
         const InCallback in_callback;
         const py::object answer = progress(info);
-        return answer.ptr() != Py_False;
+        // Python's truth, not the object False: numpy's False and 0 stop too; None goes on.
+        if (answer.is_none()) return true;
+        const int truth = PyObject_IsTrue(answer.ptr());
+        if (truth < 0) throw py::error_already_set();
+        return truth != 0;
     } catch (py::error_already_set& e) {
         if (!e.matches(PyExc_KeyboardInterrupt) && !error) error = std::move(e);
         return false;
@@ -268,15 +358,19 @@ void run_command(const std::function<void(const app::Monitor&)>& f, py::handle p
             // The ends of a drape's steps and of an activity are for a display: not passed on.
             const std::string_view kind = e.event;
             if (kind == "steps-end" || kind == "activity-end") return true;
+            if (interpreter_finalizing()) return false;
             py::gil_scoped_acquire gil;
             if (signal_seen()) return false;
             return call_progress(progress, event_dict(e), callback_error);
         };
-    try {
+    {
         py::gil_scoped_release release;
-        f(monitor);
-    } catch (...) {
-        failure = std::current_exception();
+        try {
+            f(monitor);
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        wait_out_finalization();  // before the GIL is taken back
     }
     if (callback_error) throw std::move(*callback_error);
     if (failure) std::rethrow_exception(failure);

@@ -84,7 +84,8 @@ std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric
     if (!initial_positions.is_none()) {  // an (n, 3) array of positions in m
         const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(initial_positions);
         if (!a || a.ndim() != 2 || a.shape(1) != 3)
-            throw py::type_error(std::string(caller) + ": initial_positions must be an (n, 3) array of positions in m, n the grid's particles");
+            throw py::type_error(std::string(caller)
+                                 + ": initial_positions must be an (n, 3) array of positions in m, n the grid's particles");
         Positions x(static_cast<std::size_t>(a.shape(0)));
         const auto v = a.unchecked<2>();
         for (py::ssize_t k = 0; k < a.shape(0); ++k) x[static_cast<std::size_t>(k)] = Vec3(v(k, 0), v(k, 1), v(k, 2));
@@ -113,6 +114,7 @@ public:
     sim::ProgressCallback on_step()
     {
         return [this](const sim::StepInfo& s) {
+            if (interpreter_finalizing()) return false;
             py::gil_scoped_acquire gil;
             py::dict info;
             info["event"] = "step";
@@ -130,6 +132,7 @@ public:
     sim::IterationCallback on_iteration()
     {
         return [this](const sim::IterationInfo& i) {
+            if (interpreter_finalizing()) return false;
             py::gil_scoped_acquire gil;
             py::dict info;
             info["event"] = "iteration";
@@ -186,10 +189,17 @@ DrapeResult drape(py::object scene, py::object fabric, py::object grid, py::obje
     const app::DrapeSetup& setup = *r.setup;
     SolveCallbacks callbacks(progress, setup);
     sim::Result result;
+    std::exception_ptr failure;
     {
         py::gil_scoped_release release;
-        result = app::solve_drape(setup, callbacks.on_step(), callbacks.on_iteration());
+        try {
+            result = app::solve_drape(setup, callbacks.on_step(), callbacks.on_iteration());
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        wait_out_finalization();  // a daemon thread's drape at interpreter exit
     }
+    if (failure) std::rethrow_exception(failure);
     callbacks.raise_error();
 
     // 3. The state reached, measured, and its report (report.json without `files`).
@@ -205,8 +215,8 @@ struct Stepper {
 };
 
 std::shared_ptr<Stepper> make_stepper(py::object scene, py::object fabric, py::object grid, py::object solver, py::object seed,
-                                      py::object threads, py::object max_steps, py::object perturb, py::object hysteresis,
-                                      py::object bias, py::object initial_positions)
+                                      py::object threads, py::object max_steps, py::object perturb, py::object hysteresis, py::object bias,
+                                      py::object initial_positions)
 {
     const CallLock lock;
     auto st = std::make_shared<Stepper>();
@@ -370,33 +380,42 @@ True
 
 Replacing the obstacles refuses (woven.InputError) a set that a free particle lies inside:
 the cloth is kept out of obstacles, not pushed out of them.)")
-        .def(py::init(&make_stepper), py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(), py::arg("grid") = py::none(),
-             py::arg("solver") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = py::none(),
+        .def(py::init(&make_stepper), py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(),
+             py::arg("grid") = py::none(), py::arg("solver") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = py::none(),
              py::arg("max_steps") = py::none(), py::arg("perturb") = py::none(), py::arg("hysteresis") = py::none(),
              py::arg("bias") = py::none(), py::arg("initial_positions") = py::none())
         .def("step", &step, py::arg("steps") = 1, py::kw_only(), py::arg("progress") = py::none(),
              "Takes at most `steps` solver steps (fewer when it comes to rest, or progress or Ctrl-C stops it); progress as "
              "woven.drape's. Returns converged.")
-        .def_property_readonly("positions", [](const Stepper& st) { return points_array(st.solver->positions()); },
-                               "Every grid particle, (nu * nv, 3) float64, metres, z up; particle (i, j) is row i + nu * j.")
-        .def_property_readonly("grid", [](const Stepper& st) { return py::make_tuple(st.setup->grid.nu, st.setup->grid.nv); }, "(nu, nv).")
-        .def_property_readonly("energy", [](const Stepper& st) { return st.solver->energy(); }, "The model's energy at the state, J.")
-        .def_property_readonly("residual", [](const Stepper& st) { return st.solver->residual(); },
-                               "The largest residual force on a free particle over its weight m g (report.json's max_residual_rel).")
-        .def_property_readonly("tolerance", [](const Stepper& st) { return st.setup->scene.solver.residual_tolerance; },
-                               "The residual at which the drape is at rest.")
-        .def_property_readonly("steps", [](const Stepper& st) { return st.solver->steps(); }, "Solver steps taken so far.")
-        .def_property_readonly("time_s", [](const Stepper& st) { return st.solver->time(); }, "Simulated time so far, s.")
-        .def_property_readonly("converged", [](const Stepper& st) { return st.solver->converged(); },
-                               "True when the last step ended at rest (False again after the obstacles change).")
-        .def_property("obstacles", [](const Stepper& st) { return st.setup->scene.obstacle_kinds; }, &set_obstacles,
-                      "The obstacles' types; set it to a list of woven.Obstacle to replace them between steps.")
+        .def_property_readonly(
+            "positions", [](const Stepper& st) { return points_array(st.solver->positions()); },
+            "Every grid particle, (nu * nv, 3) float64, metres, z up; particle (i, j) is row i + nu * j.")
+        .def_property_readonly(
+            "grid", [](const Stepper& st) { return py::make_tuple(st.setup->grid.nu, st.setup->grid.nv); }, "(nu, nv).")
+        .def_property_readonly(
+            "energy", [](const Stepper& st) { return st.solver->energy(); }, "The model's energy at the state, J.")
+        .def_property_readonly(
+            "residual", [](const Stepper& st) { return st.solver->residual(); },
+            "The largest residual force on a free particle over its weight m g (report.json's max_residual_rel).")
+        .def_property_readonly(
+            "tolerance", [](const Stepper& st) { return st.setup->scene.solver.residual_tolerance; },
+            "The residual at which the drape is at rest.")
+        .def_property_readonly(
+            "steps", [](const Stepper& st) { return st.solver->steps(); }, "Solver steps taken so far.")
+        .def_property_readonly(
+            "time_s", [](const Stepper& st) { return st.solver->time(); }, "Simulated time so far, s.")
+        .def_property_readonly(
+            "converged", [](const Stepper& st) { return st.solver->converged(); },
+            "True when the last step ended at rest (False again after the obstacles change).")
+        .def_property(
+            "obstacles", [](const Stepper& st) { return st.setup->scene.obstacle_kinds; }, &set_obstacles,
+            "The obstacles' types; set it to a list of woven.Obstacle to replace them between steps.")
         .def("result", &stepper_result,
              "The state reached as a woven.DrapeResult (its report, fields and save()); it shares this drape's scene.")
         .def("__repr__", [](const Stepper& st) {
-            return "<woven.Drape " + st.setup->scene.name + ", " + std::to_string(st.setup->grid.nu) + " x " +
-                   std::to_string(st.setup->grid.nv) + ", " + std::to_string(st.solver->steps()) + " steps" +
-                   (st.solver->converged() ? ", converged>" : ">");
+            return "<woven.Drape " + st.setup->scene.name + ", " + std::to_string(st.setup->grid.nu) + " x "
+                + std::to_string(st.setup->grid.nv) + ", " + std::to_string(st.solver->steps()) + " steps"
+                + (st.solver->converged() ? ", converged>" : ">");
         });
 
     m.def("drape", &drape, py::arg("scene") = "cube", py::kw_only(), py::arg("fabric") = py::none(), py::arg("grid") = py::none(),

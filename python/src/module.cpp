@@ -10,7 +10,16 @@ PYBIND11_MODULE(_woven, m)
     m.attr("__version__") = WOVEN_VERSION;
     // Bad input: woven's one-line message ("<source>: <field>: <what is expected>"), as the
     // command prints it after "woven: error: ". A ValueError.
-    py::register_exception<woven::InputError>(m, "InputError", PyExc_ValueError);
+    // A value the request names by its command-line option ("command line: --grid: ...") is
+    // named by the Python keyword that gave it ("grid: ...").
+    static py::exception<woven::InputError> input_error(m, "InputError", PyExc_ValueError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const woven::InputError& e) {
+            PyErr_SetString(input_error.ptr(), python_message(e).c_str());
+        }
+    });
     // A failure on valid input (an I/O error, a non-finite state): a RuntimeError.
     py::register_exception<woven::RuntimeError>(m, "Error", PyExc_RuntimeError);
     input_warning = PyErr_NewExceptionWithDoc("woven.InputWarning",
@@ -23,4 +32,6 @@ PYBIND11_MODULE(_woven, m)
     bind_drape(m);
     bind_testers(m);
     bind_garment(m);
+    // A woven call on a daemon thread is stopped before the interpreter finalizes (issue 53).
+    py::module_::import("atexit").attr("register")(py::cpp_function(&stop_calls_at_exit));
 }

@@ -8,6 +8,7 @@
 
 #include "bindings.hpp"
 #include "woven/geometry/triangle_mesh.hpp"
+#include "woven/io/mesh_file.hpp"
 #include "woven/io/values.hpp"
 
 namespace woven::python {
@@ -17,6 +18,18 @@ namespace {
 /// The keys given (None left out) as an obstacle's values, built once to check them.
 Obstacle make(const std::string& type, py::dict keys)
 {
+    // A mesh's rows counted before they are converted (about 1 KB each on the way).
+    if (type == "mesh")
+        for (const char* key : {"vertices_m", "faces"})
+            if (keys.contains(key) && py::hasattr(keys[key], "__len__")) {
+                const auto n = static_cast<long long>(py::len(keys[key]));
+                if (n > io::kMaxInlineMeshRows)
+                    throw InputError(
+                        kPythonObstacle, key,
+                        "expected at most " + std::to_string(io::kMaxInlineMeshRows)
+                            + " rows (about 1 KB each given as values; a larger mesh from a file: type = \"mesh\", file = ...), got "
+                            + std::to_string(n));
+            }
     py::dict d;
     d["type"] = type;
     for (auto [k, v] : keys)

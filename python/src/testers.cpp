@@ -138,7 +138,8 @@ py::object kes_test(py::object fabric, py::object test, py::object direction, py
 
 py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm, py::object spacing_cm, py::object seeds, py::object seed,
                   py::object threads, py::object max_steps, py::object shear_law, py::object hysteresis, py::object protocol,
-                  py::object shakes, bool render, py::object out, py::object progress)
+                  py::object shakes, bool render, py::object out, py::object progress, py::object bias, py::object clamp,
+                  py::object clamp_margin, py::object clamp_gap_mm, py::object start, bool search, py::object modes, py::object jobs)
 {
     app::CusickRequest r;
     const FabricArg f = fabric_arg(fabric);
@@ -156,6 +157,21 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
     r.hysteresis = choice_arg(hysteresis, "--hysteresis", model::kHysteresisNames);
     r.protocol = choice_arg(protocol, "--protocol", testers::kCusickProtocolNames);
     if (const auto n = integer_arg(shakes, "--shakes", app::kCusickShakesRange[0], app::kCusickShakesRange[1])) r.shakes = static_cast<int>(*n);
+    r.bias = choice_arg(bias, "--bias", model::kBiasBendingNames);
+    r.clamp = choice_arg(clamp, "--clamp", testers::kCusickClampNames);
+    r.clamp_margin = number_arg(clamp_margin, "--clamp-margin", app::kCusickClampMarginRange[0], app::kCusickClampMarginRange[1]);
+    r.clamp_gap_mm = positive_arg(clamp_gap_mm, "--clamp-gap-mm", 1e3 * testers::CusickOptions{}.solver.contact_distance);
+    if (const auto path = option_text(start)) r.start = *path;
+    r.search = search;
+    if (!modes.is_none()) {  // a list of fold counts; the job checks them (and that search is on)
+        if (py::isinstance<py::str>(modes) || !py::isinstance<py::iterable>(modes))
+            throw InputError(app::kCommandLine, "--modes",
+                             "expected a list of fold counts such as [3, 5, 7], got " + py::repr(modes).cast<std::string>());
+        std::vector<int> m;
+        for (py::handle h : modes) m.push_back(static_cast<int>(*integer_arg(h, "--modes", 2, 64)));
+        r.modes = std::move(m);
+    }
+    if (const auto j = integer_arg(jobs, "--jobs", app::kCusickJobsRange[0], app::kCusickJobsRange[1])) r.jobs = static_cast<int>(*j);
     r.render = render;
     const OutDir dir(out);
     r.out = dir.path();
@@ -234,11 +250,17 @@ temporary folder that is removed. progress, if given, is called with a dict abou
           py::arg("spacing_cm") = py::none(), py::arg("seeds") = 1, py::arg("seed") = 1, py::arg("threads") = py::none(),
           py::arg("max_steps") = py::none(), py::arg("shear_law") = py::none(), py::arg("hysteresis") = py::none(),
           py::arg("protocol") = py::none(), py::arg("shakes") = py::none(), py::arg("render") = true, py::arg("out") = py::none(),
-          py::arg("progress") = py::none(),
+          py::arg("progress") = py::none(), py::arg("bias") = py::none(), py::arg("clamp") = py::none(),
+          py::arg("clamp_margin") = py::none(), py::arg("clamp_gap_mm") = py::none(), py::arg("start") = py::none(),
+          py::arg("search") = false, py::arg("modes") = py::none(), py::arg("jobs") = py::none(),
           R"(The Cusick drape test (BS 5058, ISO 9073-9) on a simulated specimen, as `woven cusick`.
 
-fabric: a built-in name, a fabric .toml path or a woven.Fabric. hysteresis ("loading-branch" or
-"friction"), protocol ("release" or "lowered") and shakes are the command's options. Returns cusick.json as a dict:
+fabric: a built-in name, a fabric .toml path or a woven.Fabric. Every option of the command is a
+keyword, checked as it checks it (an error names the keyword): hysteresis ("loading-branch" or
+"friction"), protocol ("release" or "lowered"), shakes, bias ("threads" or "fabric"), clamp
+("pinned" or "discs"), clamp_margin (spacings), clamp_gap_mm, start (a cusick.obj path), search
+(True: the search of rest states), modes (with search: a list of guide counts, e.g. [3, 5, 7])
+and jobs (with search: starts run at once). Returns cusick.json as a dict:
 drape_coefficient_percent, nodes, node_angles_deg, runs (one per seed), interrupted, ... The
 files (cusick.obj, shadow.png, drape.png) are written to out when given, else to a temporary
 folder that is removed; `vertices` (n, 3) float64 m and `faces` (m, 3) int32 are the draped

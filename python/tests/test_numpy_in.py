@@ -53,9 +53,9 @@ def test_primitive_obstacles_are_the_scene_files():
 
 @pytest.mark.parametrize("make,message", [
     (lambda: woven.Obstacle.sphere((0, 0, 0), -1), "Python obstacle: radius_m: expected a positive number in [0.0001, 1000] m, got -1"),
-    (lambda: woven.Obstacle.mesh(BOX_V, BOX_F + 1), "Python obstacle: faces[4]: expected an integer in [0, 7], got 8"),
-    (lambda: woven.Obstacle.mesh(BOX_V[:, :2], BOX_F), "Python obstacle: vertices_m[1]: expected [x, y, z] in m"),
-    (lambda: woven.Obstacle.mesh(np.array([[0, 0, np.nan], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]])), "Python obstacle: vertices_m[1]"),
+    (lambda: woven.Obstacle.mesh(BOX_V, BOX_F + 1), "Python obstacle: faces[3]: expected an integer in [0, 7], got 8"),
+    (lambda: woven.Obstacle.mesh(BOX_V[:, :2], BOX_F), "Python obstacle: vertices_m[0]: expected [x, y, z] in m"),
+    (lambda: woven.Obstacle.mesh(np.array([[0, 0, np.nan], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]])), "Python obstacle: vertices_m[0]"),
     (lambda: woven.Obstacle({"radius_m": 1}), "Python obstacle: type: missing"),
 ])
 def test_bad_obstacles_raise_the_readers_messages(make, message):

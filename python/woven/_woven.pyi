@@ -186,7 +186,9 @@ def cusick(fabric: FabricLike, *, specimen_cm: float = 30, disc_cm: float = 18, 
            seeds: int = 1, seed: int = 1, threads: Optional[int] = None, max_steps: Optional[int] = None,
            shear_law: Optional[str] = None, hysteresis: Optional[str] = None, protocol: Optional[str] = None,
            shakes: Optional[int] = None, render: bool = True, out: Optional[PathLike] = None,
-           progress: Progress = None) -> Dict[str, Any]: ...
+           progress: Progress = None, bias: Optional[str] = None, clamp: Optional[str] = None,
+           clamp_margin: Optional[float] = None, clamp_gap_mm: Optional[float] = None, start: Optional[PathLike] = None,
+           search: bool = False, modes: Optional[Sequence[int]] = None, jobs: Optional[int] = None) -> Dict[str, Any]: ...
 
 def fit(fabric: FabricLike, *, sigma_cm: float = 2, out: Optional[PathLike] = None) -> Dict[str, Any]: ...
 

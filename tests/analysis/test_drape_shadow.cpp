@@ -206,3 +206,48 @@ TEST(DrapeShadow, BadInputsThrow)
     m.faces = {Eigen::Vector3i(0, 1, 2)};
     EXPECT_EQ(an::shadow_area(m), 0.0);
 }
+
+// Issue 53: one particle far away (a start file's) sized the scanline table by the extent over
+// the row: 1 km made 9.3 GB, 1000 km threw "cannot create std::vector larger than max_size()".
+// Now the rows are capped (kMaxShadowRows, kMaxShadowRowSpans) and swept: O(faces) memory.
+TEST(DrapeShadow, AParticleFarAwayNeitherTakesTheMachineNorThrows)
+{
+    auto r = [](double th) { return 0.15 + 0.0 * th; };
+    for (const double far_m : {1e3, 1e6, 1e12}) {
+        TriangleMesh m = star(r, 720);
+        const double disc = star_area(r, 720);
+        // A sliver from the rim to the far particle: 1 mm wide, far_m long.
+        const int a = static_cast<int>(m.vertices.size());
+        m.vertices.push_back(Vec3(0, 0.15, 0.2));
+        m.vertices.push_back(Vec3(1e-3, 0.15, 0.2));
+        m.vertices.push_back(Vec3(0, far_m, 0.2));
+        m.faces.emplace_back(a, a + 1, a + 2);
+        const double row = an::shadow_row_m(m);
+        EXPECT_LE((far_m + 0.15) / row, static_cast<double>(an::kMaxShadowRows) + 1) << far_m;
+        const double area = an::shadow_area(m);
+        // The disc (its rows are now far wider than 0.1 mm: within a row's height of the rim)
+        // plus the sliver's 0.5 mm x far_m.
+        EXPECT_NEAR(area, disc + 0.5e-3 * far_m, 0.3 * 2 * row + 1e-3 * (disc + 0.5e-3 * far_m)) << far_m;
+        EXPECT_LT(an::shadow_memory_bytes(m), 100'000u);
+        const an::ShadowRaster s = an::rasterize_shadow(m, Vec2(-0.2, -0.2), 5e-4, 800, 800);
+        EXPECT_NEAR(s.area_m2(), disc + 1e-3 * 0.05, 0.002 * disc) << far_m;  // the picture holds the sliver's first 5 cm
+        const std::vector<double> rad = an::shadow_radius(m, Vec2::Zero(), 1440);
+        EXPECT_NEAR(rad[0], far_m, 1e-6 * far_m);
+        EXPECT_NEAR(rad[720], 0.15, 1e-3);
+    }
+    // The default 0.1 mm spacing is kept for a standard specimen.
+    EXPECT_EQ(an::shadow_row_m(star(r, 720)), 1e-4);
+}
+
+TEST(DrapeShadow, ExtentsBeyondDoublesAndHugeRastersAreRefused)
+{
+    TriangleMesh m;
+    m.vertices = {Vec3(0, -1e308, 0), Vec3(1, 1e308, 0), Vec3(0, 1e308, 0)};
+    m.faces = {Eigen::Vector3i(0, 1, 2)};
+    EXPECT_THROW(an::shadow_area(m), woven::InputError);
+    m.vertices = {Vec3(-1e300, -1e300, 0), Vec3(1e300, 1e300, 0), Vec3(-1e300, 1e300, 0)};
+    EXPECT_NO_THROW(an::shadow_area(m));  // +inf (a drape's report refuses it), no overflow on the way
+    EXPECT_THROW(an::rasterize_shadow(m, Vec2::Zero(), 1e-3, 1 << 14, 1 << 14), woven::InputError);
+    const an::ShadowRaster s = an::rasterize_shadow(m, Vec2(-1, 0), 1e-3, 8, 8);  // above the diagonal y = x
+    EXPECT_EQ(s.covered[0], 1);
+}

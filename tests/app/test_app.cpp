@@ -334,3 +334,31 @@ TEST(AppMonitor, JobsWithAnEmptyMonitorPrintNothingAndInstallNoSignalHandlers)
     EXPECT_TRUE(fs::is_regular_file(dir.path / "cusick" / "cusick.json"));
     ::unsetenv("WOVEN_PROGRESS_DELAY_S");
 }
+
+// Issue 53 item 5: a SIGTERM or SIGINT after cusick's solve, while its pictures were made, was
+// forgotten: exit 0, "interrupted": false. The interrupt asked for during the run's files (here
+// by the job's poll, set from on_run, which follows them) now marks the set interrupted.
+TEST(AppCusick, AnInterruptDuringTheRunsPicturesMarksTheSetInterrupted)
+{
+    static bool stop = false;
+    stop = false;
+    const TempDir dir;
+    fs::create_directories(dir.path);
+    app::CusickRequest cusick;
+    cusick.fabric = "silk";
+    cusick.specimen_cm = 12;
+    cusick.disc_cm = 6;
+    cusick.spacing_cm = 1;
+    cusick.max_steps = 3;
+    cusick.threads = 1;
+    cusick.out = dir.path / "cusick";
+    cusick.render = false;
+    cusick.monitor.interrupt = [] { return stop; };
+    cusick.on_run = [](const app::CusickRunLine&) { stop = true; };
+    const app::CusickResult c = app::cusick(cusick);
+    EXPECT_TRUE(c.interrupted);
+    EXPECT_TRUE(c.report.at("interrupted").get<bool>());
+    EXPECT_TRUE(c.report.at("runs").at(0).at("interrupted").get<bool>());
+    std::ifstream in(dir.path / "cusick" / "cusick.json");
+    EXPECT_TRUE(nlohmann::json::parse(in).at("interrupted").get<bool>());
+}

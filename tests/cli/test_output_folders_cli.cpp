@@ -2,6 +2,7 @@
 // a deep or FIFO manifest neither crashes nor blocks check, report or sweep; a small address-
 // space limit does not hang the process at exit; cusick is held to the drape's memory
 // estimate; sweep plans (FIFO, non-fabric files, quoting of --list) and planted symlinks.
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -77,6 +78,10 @@ TEST_F(OutputFolderCli, VersionEndsUnderASmallAddressSpaceLimit)
         const Outcome r = woven("--version", std::string("ulimit -v ") + limit + "; " + kLimit);
         EXPECT_EQ(r.code, 0) << limit << ": " << r.err;
         EXPECT_THAT(r.out, HasSubstr("woven ")) << limit;
+        // Issue 53: a thread count the user set was kept, and spun (64 under 200000: never ended).
+        const Outcome set = woven("--version", std::string("ulimit -v ") + limit + "; export OPENBLAS_NUM_THREADS=64; " + kLimit);
+        EXPECT_EQ(set.code, 0) << limit << ": " << set.err;
+        EXPECT_THAT(set.out, HasSubstr("woven ")) << limit;
     }
 #endif
 }
@@ -151,4 +156,20 @@ TEST_F(OutputFolderCli, ASweepOfDrapesIsHeldToTheEstimateBeforeAPointRuns)
     EXPECT_THAT(r.err, HasSubstr("p.toml: point grid-1000: 1000000 particles need about"));
     EXPECT_FALSE(fs::exists(dir_ / "out" / "grid-9"));
 #endif
+}
+
+// Issue 53 item 9: a drape into a folder it cannot write ran the whole solve, then failed. Now
+// the folder is tried before the run: one line, exit 1, no step drawn.
+TEST_F(OutputFolderCli, AFolderThatCannotBeWrittenIsRefusedBeforeTheRun)
+{
+    fs::create_directories(dir_ / "ro");
+    // Immutable: even root cannot make a file in it (the tests may run as root).
+    if (std::system(("chattr +i " + (dir_ / "ro").string() + " 2>/dev/null").c_str()) != 0)
+        GTEST_SKIP() << "chattr +i is not permitted here";
+    write(dir_ / "tiny.toml", woven::test::kTinyScene);
+    const Outcome r = woven("drape tiny.toml --no-render --threads 1 --out ro");
+    [[maybe_unused]] const int undo = std::system(("chattr -i " + (dir_ / "ro").string()).c_str());
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_TRUE(one_line(r.err)) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("command line: --out: cannot write into the directory ro: Operation not permitted"));
 }

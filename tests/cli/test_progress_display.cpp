@@ -1,8 +1,10 @@
 // The command line's progress display (cli/progress_display.hpp) fed app's events: what a user
 // sees on stderr, on a terminal and in a log, with the events' own times.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -157,4 +159,34 @@ TEST(ProgressDisplay, QuietDrawsNothing)
     d(activity("activity", 1, "x", 0.5, "", 1.0));
     d(activity("activity-end", 1, "x", 1.0, "", 1.5));
     EXPECT_EQ(out.text(), "");
+}
+
+// Issue 53 item 9: kes-test sat at 67 % for 163 s and cusick was silent for 14 s (one static
+// solve, one Newton iteration: no event). The display's heartbeat draws the last state again
+// when nothing was drawn for heartbeat_s; nothing when nothing is going or an activity is within
+// its delay.
+TEST(ProgressDisplay, AWaitWithoutEventsIsDrawnAgainEveryHeartbeat)
+{
+    const Written out;
+    {
+        cli::ProgressDisplay d(out.file(), false, 2.0, 0, 0.3);
+        d(activity("activity", 1, "kes-test cotton", 0.67, "", 0.1));  // within its 2 s delay
+        std::this_thread::sleep_for(std::chrono::milliseconds(700));
+        d(step(1, 0.0, 0.05));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // no event: beats at about 0.3, 0.6, 0.9 s
+        app::ProgressEvent end;
+        end.event = "steps-end";
+        d(end);
+        d(activity("activity-end", 1, "kes-test cotton", 1, "", 0.2));
+        std::this_thread::sleep_for(std::chrono::milliseconds(700));  // nothing going: silent
+    }
+    const std::string text = out.text();
+    const std::string beat = "woven: still working: step 1/400, residual 0.5 m g (tolerance 0.001), ";
+    int beats = 0;
+    for (std::size_t at = text.find(beat); at != std::string::npos; at = text.find(beat, at + 1)) ++beats;
+    EXPECT_GE(beats, 2) << text;
+    EXPECT_LE(beats, 4) << text;
+    EXPECT_EQ(text.find("kes-test"), std::string::npos) << text;
+    EXPECT_EQ(text.rfind("woven: still working: step 1/400"), text.rfind("woven: still working")) << text;
+    EXPECT_EQ(text.find("step 1/400  t 0.010 s"), 0u) << text;
 }

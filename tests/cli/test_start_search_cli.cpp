@@ -1,9 +1,14 @@
 // Starting a drape from a given state (`--start`), the search of the Cusick tester's rest states
 // (`cusick --search`) and the bias bending switch (`--bias`), on the command line.
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
+#include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -59,6 +64,95 @@ TEST_F(StartCli, AStartOfAnotherGridIsAOneLineInputError)
     const Ran ply = woven("drape tiny.toml --no-render --start x.ply --out c");
     EXPECT_EQ(ply.code, 2);
     EXPECT_THAT(ply.err, HasSubstr("x.ply: file: expected a drape .obj file"));
+}
+
+/// The tiny scene's 9 x 9 grid as a start file in grid order, particle `p` at `at` (its
+/// line's text), the others flat 20 cm up.
+static std::string tiny_start(int p, const std::string& at)
+{
+    std::string s = "# a start\n";
+    for (int k = 0; k < 81; ++k)
+        s += "v " + (k == p ? at : std::to_string(-0.15 + 0.0375 * (k % 9)) + " " + std::to_string(-0.15 + 0.0375 * (k / 9)) + " 0.2")
+            + "\n";
+    return s;
+}
+
+// Issue 53 items 2 and 3: a start inside an obstacle, beyond the scene's bounds or with a number
+// read from a prefix ('0,5' as 0, '3zz' as 3) was accepted; now each is one line naming the
+// file's line, exit 2, before anything is written.
+TEST_F(StartCli, AStartIsCheckedAsTheFlatStartIs)
+{
+    woven::test::write(dir_ / "tiny.toml", woven::test::kTinyScene);
+    struct Case {
+        int particle;
+        const char* at;
+        const char* says;
+    };
+    for (const Case& c :
+         {Case{40, "0 0 0.05", "s.obj: v: line 42: the position (0, 0, 0.05) m lies inside or touches obstacle[2] (sphere)"},
+          Case{0, "-0.15 -0.15 -0.01", "s.obj: v: line 2: the position (-0.15, -0.15, -0.01) m lies inside or touches obstacle[1] (plane)"},
+          Case{3, "1e7 0 0.2",
+               "s.obj: v: line 5: the position (10000000, 0, 0.2) m lies outside the scene's bounds; expected every coordinate within 1000 "
+               "m"},
+          Case{3, "0 1e300 0.2", "line 5: the position (0, 1e+300, 0.2) m lies outside the scene's bounds"},
+          Case{7, "0,5 0 0.2", "s.obj: v: line 9: expected three finite coordinates (m) and nothing else"},
+          Case{7, "0x1p-1 0 0.2", "line 9: expected three finite coordinates"},
+          Case{7, "1 2 3zz", "line 9: expected three finite coordinates"},
+          Case{7, "0 0 0.2 1", "line 9: expected three finite coordinates"},
+          Case{7, "0 0 1e999", "line 9: expected three finite coordinates"}}) {
+        woven::test::write(dir_ / "s.obj", tiny_start(c.particle, c.at));
+        const Ran r = woven("drape tiny.toml --no-render --threads 1 --start s.obj --out b");
+        EXPECT_EQ(r.code, 2) << c.at << ": " << r.err;
+        EXPECT_TRUE(woven::test::one_line(r.err)) << r.err;
+        EXPECT_THAT(r.err, HasSubstr(c.says));
+        EXPECT_FALSE(fs::exists(dir_ / "b" / "report.json")) << c.at;
+    }
+    // The same start with that particle outside the sphere, '+' and exponents as C reads them.
+    woven::test::write(dir_ / "s.obj", tiny_start(40, "+0.0 0e0 1.5E-1"));
+    const Ran ok = woven("drape tiny.toml --no-render --threads 1 --max-steps 2 --start s.obj --out b");
+    EXPECT_EQ(ok.code, 0) << ok.err;
+}
+
+// Issue 53 item 1: a cusick start with one particle 1 km (or 1000 km) away took 9.3 GB (and
+// beyond 214 km ended with "cannot create std::vector larger than max_size()"); below the
+// floor or inside the disc it was draped. Now one line, exit 2, in a few MB.
+TEST_F(StartCli, ACusickStartFarAwayOrInsideTheInstrumentIsRefused)
+{
+    // The standard 30 cm specimen on its 18 cm disc at 2 cm: the floor lies within the
+    // instrument's bounds (the specimen's diameter about the disc's top centre).
+    const std::string spec = "cusick silk --spacing-cm 2 --no-render --threads 1";
+    ASSERT_EQ(woven(spec + " --max-steps 2 --out a").code, 0);
+    const std::string obj = woven::test::slurp(dir_ / "a" / "cusick.obj");
+    // Every vertex moved: the first cloth particle checked is out of place.
+    const auto moved = [&](const std::function<std::string(double, double, double)>& f) {
+        std::istringstream in(obj);
+        std::string line, out;
+        while (std::getline(in, line)) {
+            double x, y, z;
+            if (line.rfind("v ", 0) == 0 && std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z) == 3) line = f(x, y, z);
+            out += line + "\n";
+        }
+        return out;
+    };
+    const auto v = [](double x, double y, double z) {
+        char b[128];
+        std::snprintf(b, sizeof b, "v %.9g %.9g %.9g", x, y, z);
+        return std::string(b);
+    };
+    woven::test::write(dir_ / "far.obj", moved([&](double x, double y, double z) { return v(x, y + 1e3, z); }));
+    woven::test::write(dir_ / "farther.obj", moved([&](double x, double y, double z) { return v(x, y + 1e6, z); }));
+    woven::test::write(dir_ / "below.obj", moved([&](double x, double y, double) { return v(x, y, -0.01); }));
+    for (const auto& [file, says] : std::vector<std::pair<std::string, std::string>>{
+             {"far.obj", "lies outside the instrument's bounds; expected every coordinate within 0.3 m of"},
+             {"farther.obj", "lies outside the instrument's bounds"},
+             {"below.obj", "lies inside or touches obstacle[1] (plane)"}}) {
+        const Ran r = woven(spec + " --start " + file + " --out b", "ulimit -v 2000000; ");
+        EXPECT_EQ(r.code, 2) << file << ": " << r.err;
+        EXPECT_TRUE(woven::test::one_line(r.err)) << r.err;
+        EXPECT_THAT(r.err, HasSubstr(file + ": v: line "));
+        EXPECT_THAT(r.err, HasSubstr(says));
+        EXPECT_FALSE(fs::exists(dir_ / "b" / "cusick.json"));
+    }
 }
 
 TEST_F(StartCli, TheSearchKeepsEveryRestStateAndPredictsTheLowest)

@@ -95,6 +95,39 @@ TEST(OutputSet, PublishesTheFilesThenTheManifestAndNothingElse)
     fs::remove_all(d);
 }
 
+// Issue 53 item 4: cusick --seeds 2 then --seeds 1 in one folder left shadow-seed*.png (not
+// members of the second run's set) beside the new set. Every file the earlier manifest lists
+// goes; a file of the user's own, a folder, a hidden name and a path out of the folder stay.
+TEST(OutputSet, PublishingRemovesEveryFileTheEarlierManifestLists)
+{
+    const fs::path d = fresh_dir("earlier_manifest");
+    {
+        io::OutputSet set(d.string(), {"a.txt", "shadow-seed1.png", "shadow-seed2.png"});
+        set.add("a.txt", "a\n");
+        set.add("shadow-seed1.png", "1\n");
+        set.add("shadow-seed2.png", "2\n");
+        nlohmann::json j;
+        j["files"] = set.files_json();
+        // As a hostile or damaged manifest may: names outside the set's plain files.
+        for (const char* n : {"sub", ".hidden", "../outside.txt", "/tmp"}) j["files"][n] = {{"bytes", 0}};
+        set.publish("report.json", j.dump());
+    }
+    write(d / "mine.txt", "mine\n");
+    write(d / ".hidden", "h\n");
+    fs::create_directory(d / "sub");
+    write(d.parent_path() / "outside.txt", "o\n");
+    io::OutputSet set(d.string(), {"a.txt", "shadow.png"});
+    set.add("a.txt", "a two\n");
+    set.add("shadow.png", "s\n");
+    nlohmann::json j;
+    j["files"] = set.files_json();
+    set.publish("report.json", j.dump());
+    EXPECT_EQ(entries(d), (std::vector<std::string>{".hidden", "a.txt", "mine.txt", "report.json", "shadow.png", "sub"}));
+    EXPECT_TRUE(fs::exists(d.parent_path() / "outside.txt"));
+    fs::remove(d.parent_path() / "outside.txt");
+    fs::remove_all(d);
+}
+
 TEST(OutputSet, AnUnpublishedSetLeavesThePreviousSetAndNoTemporaries)
 {
     const fs::path d = fresh_dir("unpublished");

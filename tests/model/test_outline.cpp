@@ -2,8 +2,13 @@
 // triangulation) and the grid cut (kept particles, areas summing to the outline's, the flat
 // surface being the outline, and every documented error).
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <set>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -282,4 +287,63 @@ TEST(Outline, ClothMassIsWTimesTheOutlinesArea)
     double patch_mass = 0;
     for (int p = 0; p < g.size(); ++p) patch_mass += patches.mass(p);
     EXPECT_NEAR(patch_mass, 0.12 * c.count * 0.005 * 0.005, 1e-12);
+}
+
+namespace {
+
+/// Edges used by exactly one face, and by more than two.
+std::pair<int, int> open_and_overused_edges(const woven::geometry::TriangleMesh& mesh)
+{
+    std::map<std::pair<int, int>, int> uses;
+    for (const auto& f : mesh.faces)
+        for (int k = 0; k < 3; ++k) ++uses[std::minmax(f[k], f[(k + 1) % 3])];
+    int open = 0, over = 0;
+    for (const auto& [e, n] : uses) {
+        open += n == 1;
+        over += n > 2;
+    }
+    return {open, over};
+}
+
+}  // namespace
+
+// Issue 53 item 9: the cut surface (cusick.obj, a cut cloth's drape.obj) was a triangle soup at
+// its rim: every clipped cell's triangles had their own vertices (silk at 0.5 cm: 8,932 vertices
+// at 4,601 positions, 6,355 open edges), which breaks smoothing, normals and curvature in mesh
+// readers. Welded, its only open edges are the cut edge's, one loop, each vertex once.
+TEST(Outline, TheCutSurfaceIsWeldedItsOnlyOpenEdgesTheOutline)
+{
+    for (const auto& [R, s, n] : {std::tuple{0.15, 0.005, 65}, std::tuple{0.06, 0.01, 15}, std::tuple{0.1234, 0.007, 39}}) {
+        const m::Grid g = grid(n, n, s);
+        const m::ClothCut c = m::cut_grid(g, disc(R), "s", "f");
+        Positions x = flat(g);
+        for (auto& p : x) p.z() = 0.2 + 0.3 * p.x() * p.x();  // not flat: the bilinear map matters
+        std::vector<Vec2> uv;
+        const auto mesh = m::cut_surface(g, c, x, &uv);
+        const auto [open, over] = open_and_overused_edges(mesh);
+        EXPECT_EQ(over, 0) << R;
+        // The open edges are the outline's: their vertices at rest radius R, as many as edges
+        // (one loop), and the surface a disc: V - E + F = 1.
+        std::set<int> rim;
+        std::map<std::pair<int, int>, int> uses;
+        for (const auto& f : mesh.faces)
+            for (int k = 0; k < 3; ++k) ++uses[std::minmax(f[k], f[(k + 1) % 3])];
+        for (const auto& [e, u] : uses)
+            if (u == 1) {
+                rim.insert(e.first);
+                rim.insert(e.second);
+                EXPECT_NEAR(uv[e.first].norm() * s, R, 1e-5 * R) << R;  // on the outline's 720-gon
+            }
+        EXPECT_EQ(static_cast<int>(rim.size()), open) << R;
+        EXPECT_EQ(static_cast<int>(mesh.vertices.size()) - static_cast<int>(uses.size()) + static_cast<int>(mesh.faces.size()), 1) << R;
+        // One vertex per particle kept, the rest on the cut edge, no two at one rest position.
+        int particles = 0;
+        for (char a : c.active) particles += a;
+        std::set<std::pair<long, long>> at;
+        for (const Vec2& t : uv) at.insert({std::lround(t.x() * 1e6), std::lround(t.y() * 1e6)});
+        EXPECT_EQ(at.size(), mesh.vertices.size()) << R;
+        EXPECT_GE(static_cast<int>(mesh.vertices.size()), particles) << R;  // a particle on the outline is a rim vertex too
+        EXPECT_LE(static_cast<int>(mesh.vertices.size()), particles + open) << R;
+        EXPECT_NEAR(mesh_area(m::cut_surface(g, c, flat(g))), kPi * R * R, 1e-9 * R * R) << R;
+    }
 }

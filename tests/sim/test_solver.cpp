@@ -1,10 +1,10 @@
 // The stateful solver (sim::Solver): a user's step loop gives sim::drape's bits, the state is
 // readable between steps, obstacles are replaceable (and refused where a particle would start
 // inside one), and the paper solver has the same shape.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <memory>
+
+#include <gtest/gtest.h>
 
 #include "sim/sim_fixtures.hpp"
 #include "woven/common/error.hpp"

@@ -137,6 +137,46 @@ def test_integer_options_are_typed_int_in_help(command):
         assert m and m.group(1) == "INT", f"{command} {option}: {m.group(0) if m else out}"
 
 
+TYPED_HELP = [
+    # command, option, --help's type, a bad value whose error states the same range (None: a choice)
+    ("drape", "--grid", "INT in [3, 100000]", "2"),
+    ("drape", "--max-steps", "INT in [0, 1000000000]", "-1"),
+    ("drape", "--threads", "INT in [0, 4096]", "-1"),
+    ("drape", "--perturb", "NUMBER in [0, 0.01]", "1"),
+    ("drape", "--width", "INT in [1, 16384]", "0"),
+    ("drape", "--solver", "{fast,paper}", None),
+    ("drape", "--hysteresis", "{loading-branch,friction}", None),
+    ("drape", "--bias", "{threads,fabric}", None),
+    ("cusick", "--specimen-cm", "NUMBER in (0, 200]", "0"),
+    ("cusick", "--seeds", "INT in [1, 1000]", "0"),
+    ("cusick", "--shakes", "INT in [0, 100]", "-1"),
+    ("cusick", "--clamp-margin", "NUMBER in [-2, 2]", "3"),
+    ("cusick", "--clamp", "{pinned,discs}", None),
+    ("cusick", "--protocol", "{release,lowered}", None),
+    ("cusick", "--shear-law", "{deembedded,measured}", None),
+    ("kes-test", "--sigma-cm", "NUMBER in [0.02, 2]", "5"),
+    ("kes-test", "--test", "{cantilever,bending,shear,all}", None),
+    ("kes-test", "--bending-form", "{work,secant}", None),
+    ("kes-test", "--threads", "INT in [0, 4096]", "-1"),
+    ("fit", "--sigma-cm", "NUMBER in [0.01, 100]", "0"),
+]
+
+
+@pytest.mark.parametrize("command, option, shown, bad", TYPED_HELP, ids=[f"{c} {o}" for c, o, _, _ in TYPED_HELP])
+def test_help_shows_each_number_and_choice_with_its_type_and_range(tmp_path, command, option, shown, bad):
+    code, out, err = woven(command, "--help")
+    assert code == 0, err
+    assert re.search(r"^\s+" + re.escape(option) + r" " + re.escape(shown) + r"(=\S+)?(\s|$)", out, re.M), out
+    # The range --help shows is the one the value is checked against (woven's own error).
+    args = [command] + (["cube"] if command == "drape" else ["cotton"]) + [option, bad if bad else "nope"]
+    code, out, err = woven(*args, cwd=tmp_path)
+    assert code == 2, err
+    if bad:
+        assert shown.split(" in ")[1] in err, err
+    else:
+        assert err.startswith("woven: error: command line: " + option + ": expected"), err
+
+
 def test_ranges_are_worded_one_way(tmp_path):
     text = open(os.path.join(SOURCE_DIR, "fabrics", "cotton.toml")).read()
     for value, expected in [("0.1", "areal_density_mg_cm2: expected a number in [0.5, 500] mg/cm^2 (W), got 0.1"),

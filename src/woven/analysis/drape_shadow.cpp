@@ -51,7 +51,8 @@ bool interval_at(const std::array<Vec2, 3>& t, double y, double& x0, double& x1)
             x0 = std::min({x0, p.x(), q.x()});
             x1 = std::max({x1, p.x(), q.x()});
         } else {
-            const double x = p.x() + (y - p.y()) * (q.x() - p.x()) / (q.y() - p.y());
+            // The ratio first (in [0, 1]): (y - p.y) (q.x - p.x) may overflow where the point does not.
+            const double x = p.x() + (q.x() - p.x()) * ((y - p.y()) / (q.y() - p.y()));
             x0 = std::min(x0, x);
             x1 = std::max(x1, x);
         }
@@ -59,41 +60,90 @@ bool interval_at(const std::array<Vec2, 3>& t, double y, double& x0, double& x1)
     return x0 <= x1;
 }
 
-/// For scanlines y_k = y0 + (k + 1/2) row, k = 0..rows-1: each face's x-interval, merged into
-/// disjoint sorted intervals per row.
-std::vector<std::vector<std::pair<double, double>>> row_intervals(const std::vector<std::array<Vec2, 3>>& faces, double y0, double row,
-                                                                  int rows)
+/// Calls `row_fn(k, intervals)` for each scanline y_k = y0 + (k + 1/2) row, k = 0..rows-1, that
+/// some face meets, with the faces' x-intervals on it merged into disjoint sorted intervals. A
+/// sweep: the faces sorted by their first row, the faces that meet the current row kept in an
+/// active list; memory is O(faces) whatever the rows (each face's row span is clipped to
+/// [0, rows)), the time the sum of the faces' row spans.
+template <typename RowFn>
+void for_each_row(const std::vector<std::array<Vec2, 3>>& faces, double y0, double row, long long rows, RowFn&& row_fn)
 {
-    std::vector<std::vector<std::pair<double, double>>> r(rows);
-    for (const auto& t : faces) {
+    struct Span {
+        long long k0, k1;
+        std::size_t face;
+    };
+    std::vector<Span> spans;
+    spans.reserve(faces.size());
+    const double last = static_cast<double>(rows - 1);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+        const auto& t = faces[f];
         const double lo = std::min({t[0].y(), t[1].y(), t[2].y()});
         const double hi = std::max({t[0].y(), t[1].y(), t[2].y()});
-        const int k0 = std::max(0, static_cast<int>(std::ceil((lo - y0) / row - 0.5)));
-        const int k1 = std::min(rows - 1, static_cast<int>(std::floor((hi - y0) / row - 0.5)));
-        for (int k = k0; k <= k1; ++k) {
-            double x0, x1;
-            if (interval_at(t, y0 + (k + 0.5) * row, x0, x1)) r[k].emplace_back(x0, x1);
-        }
+        // In double first: a row index beyond the table (or beyond long long) is clipped.
+        const double a = std::max(0.0, std::ceil((lo - y0) / row - 0.5));
+        const double b = std::min(last, std::floor((hi - y0) / row - 0.5));
+        if (!(a <= b)) continue;
+        spans.push_back({static_cast<long long>(a), static_cast<long long>(b), f});
     }
-    for (auto& v : r) {
+    std::sort(spans.begin(), spans.end(), [](const Span& p, const Span& q) { return p.k0 < q.k0; });
+    std::vector<Span> active;
+    std::vector<std::pair<double, double>> v, merged;
+    std::size_t next = 0;
+    long long k = 0;
+    while (next < spans.size() || !active.empty()) {
+        if (active.empty()) k = std::max(k, spans[next].k0);  // skip the rows no face meets
+        while (next < spans.size() && spans[next].k0 <= k) active.push_back(spans[next++]);
+        const double y = y0 + (static_cast<double>(k) + 0.5) * row;
+        v.clear();
+        for (const Span& s : active) {
+            double x0, x1;
+            if (interval_at(faces[s.face], y, x0, x1)) v.emplace_back(x0, x1);
+        }
         std::sort(v.begin(), v.end());
-        std::vector<std::pair<double, double>> merged;
+        merged.clear();
         for (const auto& iv : v) {
             if (!merged.empty() && iv.first <= merged.back().second)
                 merged.back().second = std::max(merged.back().second, iv.second);
             else
                 merged.push_back(iv);
         }
-        v = std::move(merged);
+        if (!merged.empty()) row_fn(k, merged);
+        std::erase_if(active, [k](const Span& s) { return s.k1 <= k; });
+        ++k;
     }
-    return r;
 }
 
 }  // namespace
 
-double shadow_area(const geometry::TriangleMesh& mesh, double row_m)
+double shadow_row_m(const geometry::TriangleMesh& mesh, double row_m)
 {
     if (!(row_m > 0) || !std::isfinite(row_m)) throw InputError(kWhere, "row_m", "expected a positive scanline spacing in m");
+    double lo = INFINITY, hi = -INFINITY, spans = 0, xlo = INFINITY, xhi = -INFINITY;
+    for (const auto& t : projected_faces(mesh)) {
+        const double a = std::min({t[0].y(), t[1].y(), t[2].y()}), b = std::max({t[0].y(), t[1].y(), t[2].y()});
+        lo = std::min(lo, a);
+        hi = std::max(hi, b);
+        spans += b - a;
+        xlo = std::min({xlo, t[0].x(), t[1].x(), t[2].x()});
+        xhi = std::max({xhi, t[0].x(), t[1].x(), t[2].x()});
+    }
+    if (hi >= lo && (!std::isfinite(hi - lo) || !std::isfinite(spans) || !std::isfinite(xhi - xlo)))
+        throw InputError(kWhere, "mesh", "expected vertices within 1e300 m of one another");
+    if (!(hi > lo)) return row_m;
+    // Both caps in double: an extent of 1e300 m asks for a row of 1e293 m, not an overflow.
+    return std::max({row_m, (hi - lo) / static_cast<double>(kMaxShadowRows), spans / static_cast<double>(kMaxShadowRowSpans)});
+}
+
+std::size_t shadow_memory_bytes(const geometry::TriangleMesh& mesh)
+{
+    // The projected faces (48 bytes), their row spans (24), the active list at worst every face
+    // (24), a row's intervals at worst one per face (16, twice: gathered and merged).
+    return mesh.faces.size() * (48 + 24 + 24 + 2 * 16);
+}
+
+double shadow_area(const geometry::TriangleMesh& mesh, double row_m)
+{
+    row_m = shadow_row_m(mesh, row_m);
     const auto faces = projected_faces(mesh);
     if (faces.empty()) return 0.0;
     double lo = INFINITY, hi = -INFINITY;
@@ -103,10 +153,11 @@ double shadow_area(const geometry::TriangleMesh& mesh, double row_m)
             hi = std::max(hi, p.y());
         }
     const double y0 = std::floor(lo / row_m) * row_m;
-    const int rows = static_cast<int>(std::ceil((hi - y0) / row_m)) + 1;
+    const long long rows = static_cast<long long>(std::min(std::ceil((hi - y0) / row_m), static_cast<double>(kMaxShadowRows))) + 1;
     double length = 0;
-    for (const auto& v : row_intervals(faces, y0, row_m, rows))
+    for_each_row(faces, y0, row_m, rows, [&](long long, const std::vector<std::pair<double, double>>& v) {
         for (const auto& iv : v) length += iv.second - iv.first;
+    });
     return length * row_m;
 }
 
@@ -119,21 +170,29 @@ double ShadowRaster::area_m2() const
 
 ShadowRaster rasterize_shadow(const geometry::TriangleMesh& mesh, const Vec2& origin, double pixel_m, int width, int height)
 {
-    if (!(pixel_m > 0) || width <= 0 || height <= 0) throw InputError(kWhere, "raster", "expected a positive pixel size and image size");
+    if (!(pixel_m > 0) || !std::isfinite(pixel_m) || width <= 0 || height <= 0 || !origin.allFinite())
+        throw InputError(kWhere, "raster", "expected a positive pixel size and image size");
+    if (static_cast<long long>(width) * height > kMaxShadowPixels)
+        throw InputError(kWhere, "raster",
+                         "expected at most " + std::to_string(kMaxShadowPixels) + " pixels, got " + std::to_string(width) + " x "
+                             + std::to_string(height));
     ShadowRaster r;
     r.width = width;
     r.height = height;
     r.pixel_m = pixel_m;
     r.origin = origin;
     r.covered.assign(static_cast<size_t>(width) * height, 0);
-    const auto rows = row_intervals(projected_faces(mesh), origin.y(), pixel_m, height);
-    for (int k = 0; k < height; ++k)
-        for (const auto& iv : rows[k]) {
+    for_each_row(projected_faces(mesh), origin.y(), pixel_m, height, [&](long long k, const std::vector<std::pair<double, double>>& v) {
+        for (const auto& iv : v) {
             // Pixel c's centre origin.x + (c + 1/2) p lies in [x0, x1].
-            const int c0 = std::max(0, static_cast<int>(std::ceil((iv.first - origin.x()) / pixel_m - 0.5)));
-            const int c1 = std::min(width - 1, static_cast<int>(std::floor((iv.second - origin.x()) / pixel_m - 0.5)));
-            for (int c = c0; c <= c1; ++c) r.covered[static_cast<size_t>(c) + static_cast<size_t>(width) * k] = 1;
+            // Clipped in double: an interval far outside the picture is no int overflow.
+            const double a = std::max(0.0, std::ceil((iv.first - origin.x()) / pixel_m - 0.5));
+            const double b = std::min(static_cast<double>(width - 1), std::floor((iv.second - origin.x()) / pixel_m - 0.5));
+            if (!(a <= b)) continue;
+            const int c0 = static_cast<int>(a), c1 = static_cast<int>(b);
+            for (int c = c0; c <= c1; ++c) r.covered[static_cast<size_t>(c) + static_cast<size_t>(width) * static_cast<size_t>(k)] = 1;
         }
+    });
     return r;
 }
 

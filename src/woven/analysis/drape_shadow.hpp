@@ -19,6 +19,7 @@
 // A node is a lobe of the shadow: a maximum of r(theta), treated as periodic (a lobe that
 // straddles theta = 0 is one lobe), whose topographic prominence is at least a threshold.
 // Lengths in m, areas in m^2, angles in degrees.
+#include <cstddef>
 #include <vector>
 
 #include "woven/analysis/peaks.hpp"
@@ -27,13 +28,31 @@
 
 namespace woven::analysis {
 
+/// Caps of the shadow measurement, whatever the mesh (a start file with one particle 1000 km
+/// away made the scanline table 9.3 GB at 1 km): at most kMaxShadowRows scanlines and at most
+/// kMaxShadowRowSpans face-row crossings (the time); beyond either the scanlines are set wider
+/// (shadow_row_m). Memory is then O(faces), shadow_memory_bytes, never O(extent / row).
+inline constexpr long long kMaxShadowRows = 1LL << 20;
+inline constexpr long long kMaxShadowRowSpans = 1LL << 26;
+/// Largest raster of rasterize_shadow (pixels): 64 MiB.
+inline constexpr long long kMaxShadowPixels = 1LL << 26;
+
+/// The scanline spacing shadow_area uses for `mesh` asked for `row_m` (m): row_m, or wider
+/// where the caps above demand it (a standard specimen at 0.1 mm is far below them: 3,000
+/// rows, some 2e5 crossings at a 0.5 cm spacing). Throws InputError if row_m <= 0.
+double shadow_row_m(const geometry::TriangleMesh& mesh, double row_m = 1e-4);
+
+/// Estimate of the memory shadow_area, rasterize_shadow (besides its pixels) and shadow_radius
+/// (besides its n radii) use for `mesh` (bytes): about 120 bytes a face.
+std::size_t shadow_memory_bytes(const geometry::TriangleMesh& mesh);
+
 /// Area of the union of the mesh's faces projected on the xy plane (m^2). Scanlines
 /// `row_m` apart (midpoint rule in y); along each the covered length is exact (the union of the
 /// faces' x-intervals). The error is second order in `row_m` (the midpoint rule errs only in
 /// the rows holding a vertex where the boundary's slope dx/dy jumps): measured 2e-6 relative,
 /// 3e-4 percentage points of drape coefficient, for a 30 cm 720-gon at the default 0.1 mm
-/// (tests/analysis/test_drape_shadow.cpp). Faces with non-finite vertices are skipped.
-/// Throws InputError if row_m <= 0.
+/// (tests/analysis/test_drape_shadow.cpp). Faces with non-finite vertices are skipped. The
+/// spacing is shadow_row_m(mesh, row_m). Throws InputError if row_m <= 0.
 double shadow_area(const geometry::TriangleMesh& mesh, double row_m = 1e-4);
 
 /// A black-and-white raster of the shadow: pixel (c, r) covers
@@ -48,7 +67,7 @@ struct ShadowRaster {
 };
 
 /// Rasterises the projected faces on `width x height` pixels of side `pixel_m` from `origin`.
-/// Throws InputError on a non-positive size.
+/// Throws InputError on a non-positive size or more than kMaxShadowPixels pixels.
 ShadowRaster rasterize_shadow(const geometry::TriangleMesh& mesh, const Vec2& origin, double pixel_m, int width, int height);
 
 /// The distance r(theta_k) from `centre` of the farthest point of the projected faces along

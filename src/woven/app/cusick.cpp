@@ -324,7 +324,15 @@ CusickResult cusick(const CusickRequest& request)
     if (request.on_warnings && !warnings.empty()) request.on_warnings(warnings);
     std::string start_sha256;
     if (request.start) {
-        io::StartState start = io::load_start(path_given(request.start->string(), "--start"), setup.grid, setup.cut.active, setup.initial);
+        const std::string path = path_given(request.start->string(), "--start");
+        io::StartState start = io::load_start(path, setup.grid, setup.cut.active, setup.initial);
+        // As the flat start: outside the instrument, within the specimen's diameter of the disc's
+        // top centre (a particle 1 km away drove the shadow measurement to 9.3 GB).
+        std::vector<int> held = setup.clamped;
+        held.insert(held.end(), setup.sandwiched.begin(), setup.sandwiched.end());
+        const io::StartBounds bounds{&setup.obstacles, Vec3(0, 0, setup.disc_top_z), co.specimen_diameter_m, "the instrument's bounds"};
+        io::check_start_positions(start.x, setup.cut.active, held, bounds, path, "v",
+                                  [&](int p) { return "line " + std::to_string(start.line[static_cast<std::size_t>(p)]); });
         co.start = std::move(start.x);
         start_sha256 = start.sha256;
     }
@@ -359,6 +367,14 @@ CusickResult cusick(const CusickRequest& request)
                                  r.drape.converged, r.drape.steps, r.drape.wall_time};
         result.runs.push_back(line);
         if (request.on_run) request.on_run(line);
+    }
+
+    // A signal after the last solve (during its pictures: drape.png takes seconds, or its
+    // on_run) interrupts the job as one during the solve does: a scheduler's time limit must not
+    // read as success. Asked before the report; one during the publish waits for it (io::OutputSet).
+    if (!result.interrupted && interrupt_requested()) {
+        result.interrupted = true;
+        if (!run_list.empty()) run_list.back()["interrupted"] = true;
     }
 
     // 3. cusick.json.

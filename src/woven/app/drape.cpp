@@ -89,8 +89,13 @@ std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std:
     // A start instead of the scene's: a drape read back (--start) or positions (Python); the
     // scene's pinned particles stay where it pins them.
     std::optional<Positions> start;
+    // Checked as the flat start is: within the scene's bounds, outside every obstacle.
+    const io::StartBounds bounds{&scene.obstacles, Vec3::Zero(), io::kMaxCoordinate_m};
     if (r.start) {
-        io::StartState read = io::load_start(path_given(r.start->string(), "--start"), d.grid, d.model->stencils().active, d.problem.initial);
+        const std::string path = path_given(r.start->string(), "--start");
+        io::StartState read = io::load_start(path, d.grid, d.model->stencils().active, d.problem.initial);
+        io::check_start_positions(read.x, d.model->stencils().active, scene.pinned_indices(), bounds, path, "v",
+                                  [&](int p) { return "line " + std::to_string(read.line[static_cast<std::size_t>(p)]); });
         start = std::move(read.x);
         d.start_sha256 = read.sha256;
     } else if (r.initial) {
@@ -98,8 +103,8 @@ std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std:
             throw InputError("initial_positions", "shape",
                              "expected " + std::to_string(d.grid.size()) + " rows, one per particle of the " + std::to_string(d.grid.nu) + " x " +
                                  std::to_string(d.grid.nv) + " grid, got " + std::to_string(r.initial->size()));
-        for (const Vec3& p : *r.initial)
-            if (!p.allFinite()) throw InputError("initial_positions", "values", "expected finite positions in m");
+        io::check_start_positions(*r.initial, d.model->stencils().active, scene.pinned_indices(), bounds, "initial_positions", "values",
+                                  [](int p) { return "row " + std::to_string(p); });
         start = std::move(request.initial);
         d.start_sha256 = r.initial_sha256;
     }

@@ -2,11 +2,16 @@
 #include "woven/app/files.hpp"
 
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include "woven/app/run_checks.hpp"
 #include "woven/common/error.hpp"
@@ -162,6 +167,16 @@ void make_output_dir(const std::string& dir)
         fs::create_directories(dir, ec);
         // An I/O failure (exit 1), not bad input: the name is well formed, the system refuses it.
         if (ec) throw RuntimeError(std::string(kCommandLine) + ": --out: cannot create the directory " + dir + ": " + ec.message());
+    }
+    // Writable now, not after the run (a read-only folder let a drape solve for minutes, then
+    // fail): a probe file made and removed.
+    const std::string probe = join_path(dir, std::string(io::kTempPrefix) + std::to_string(::getpid()) + ".probe");
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0 && errno != EEXIST)
+        throw RuntimeError(std::string(kCommandLine) + ": --out: cannot write into the directory " + dir + ": " + std::strerror(errno));
+    if (fd >= 0) {
+        ::close(fd);
+        ::unlink(probe.c_str());
     }
     // Held open from now: the set is published into this folder even if the path is swapped
     // for a symlink while the run works.

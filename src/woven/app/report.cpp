@@ -2,7 +2,9 @@
 #include "woven/app/report.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -347,12 +349,15 @@ void write_page(const fs::path& out, const std::string& page)
     std::error_code ec;
     const fs::path tmp = out.parent_path() / (".woven-tmp." + std::to_string(::getpid()) + ".report.html");
     {
+        errno = 0;
         std::ofstream f(tmp, std::ios::binary);
+        const int open_errno = errno;  // why it could not be opened (a read-only folder: EACCES, EROFS)
         f << page;
         f.flush();
         if (!f) {
+            const int why = open_errno != 0 ? open_errno : errno;
             fs::remove(tmp, ec);
-            throw RuntimeError(out.string() + ": cannot write");
+            throw RuntimeError(out.string() + ": cannot write: " + (why != 0 ? std::strerror(why) : "the write failed"));
         }
     }
     fs::rename(tmp, out, ec);

@@ -37,6 +37,7 @@
 #include "woven/app/check.hpp"
 #include "woven/app/files.hpp"
 #include "woven/app/progress.hpp"
+#include "woven/common/format.hpp"
 #include "woven/sim/resources.hpp"
 #include "woven/app/run_checks.hpp"
 #include "woven/batch/sweep.hpp"
@@ -81,6 +82,7 @@ struct Running {
     batch::SweepPoint point;
     fs::path work;
     std::chrono::steady_clock::time_point start;
+    std::chrono::steady_clock::time_point said;  ///< its progress last relayed (relay_progress)
     std::vector<std::string> args;
 };
 
@@ -142,6 +144,12 @@ public:
     {
         fs::create_directories(work_root_);
         fs::create_directories(sweep_ / "failed");
+        // Held open from here (never by its path again): a link planted in its place while the
+        // sweep runs is not followed (issue 53: 30 failure records written outside the sweep).
+        failed_fd_ = ::open((sweep_ / "failed").c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        if (failed_fd_ < 0)
+            throw RuntimeError((sweep_ / "failed").string() + ": cannot open the sweep's failure folder: " + std::strerror(errno)
+                               + " (expected the sweep's own folder, not a link)");
         remove_stale_work();
         std::size_t next = 0, finished = 0;
         std::vector<Running> running;
@@ -154,6 +162,7 @@ public:
             int status = 0;
             const pid_t pid = ::waitpid(-1, &status, WNOHANG);
             if (pid <= 0) {
+                relay_progress(running);
                 std::this_thread::sleep_for(std::chrono::milliseconds(50));
                 continue;
             }
@@ -249,7 +258,7 @@ private:
         for (auto& a : r.args) argv.push_back(a.data());
         argv.push_back(nullptr);
         const pid_t parent = ::getpid();
-        r.start = std::chrono::steady_clock::now();
+        r.start = r.said = std::chrono::steady_clock::now();
         const pid_t pid = ::fork();
         if (pid < 0) throw RuntimeError(std::string("cannot start a point: fork: ") + std::strerror(errno));
         if (pid == 0) {
@@ -302,11 +311,11 @@ private:
             f["host"] = host_;
             f["pid"] = r.pid;
             f["log_tail"] = tail_lines(r.work / "log.txt", 8);
-            write_atomic(sweep_ / "failed" / (p.name + ".json"), f.dump(2) + "\n");
+            const std::string record = write_failure(p.name + ".json", f.dump(2) + "\n");
             remove_work(r.work);
             std::ostringstream line;
-            line << head.str() << "FAILED (" << problem << ", " << std::fixed << std::setprecision(1) << wall << " s); see "
-                 << (sweep_ / "failed" / (p.name + ".json")).string();
+            line << head.str() << "FAILED (" << problem << ", " << std::fixed << std::setprecision(1) << wall << " s); "
+                 << (record.empty() ? "see " + (sweep_ / "failed" / (p.name + ".json")).string() : record);
             say(line.str());
             return;
         }
@@ -339,10 +348,30 @@ private:
             fs::remove_all(aside, ec);
         }
         std::error_code ec;
-        fs::remove(sweep_ / "failed" / (p.name + ".json"), ec);
+        ::unlinkat(failed_fd_, (p.name + ".json").c_str(), 0);  // through the folder held: a link in its place is not followed
         ++ran_;
         head << "ran in " << std::fixed << std::setprecision(1) << wall << " s";
         say(head.str());
+    }
+
+    /// Each running point's progress, every kPointProgressS seconds: the last line of its log
+    /// (the point's own progress display, which speaks at least every 2 s), prefixed by the
+    /// point; a point that has said nothing yet, how long it has run (issue 53: a sweep was
+    /// silent while its points ran, 23 s for one 41 x 41 drape).
+    void relay_progress(std::vector<Running>& running)
+    {
+        constexpr double kPointProgressS = 2.0;
+        const auto now = std::chrono::steady_clock::now();
+        for (Running& r : running) {
+            if (std::chrono::duration<double>(now - r.said).count() < kPointProgressS) continue;
+            r.said = now;
+            std::string last = tail_lines(r.work / "log.txt", 1);
+            while (!last.empty() && (last.back() == '\n' || last.back() == '\r')) last.pop_back();
+            if (const auto cr = last.rfind('\r'); cr != std::string::npos) last = last.substr(cr + 1);  // a bar redrawn in place
+            if (last.rfind("woven: ", 0) == 0) last = last.substr(7);
+            const double t = std::chrono::duration<double>(now - r.start).count();
+            say("  " + r.point.name + ": " + (last.empty() ? "running" : last.substr(0, 160)) + strf(" (point %.0f s)", t));
+        }
     }
 
     /// A line of word on the run (stderr), to on_line.
@@ -377,6 +406,37 @@ private:
     std::function<void(const batch::SweepPoint&)> on_start_;
     std::function<void(const std::string&, bool)> on_line_;
     int failed_ = 0, ran_ = 0;
+    int failed_fd_ = -1;  ///< the failure folder, held open by run()
+
+    /// Writes a failure record into the folder held (a temporary, then renamed, both through the
+    /// descriptor, no link followed); "" when written, else why not (the folder was removed).
+    std::string write_failure(const std::string& name, const std::string& text)
+    {
+        static std::atomic<int> counter{0};
+        const std::string tmp = ".woven-tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++) + "." + name;
+        const int fd = ::openat(failed_fd_, tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+        bool ok = fd >= 0;
+        for (std::size_t done = 0; ok && done < text.size();) {
+            const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+            if (n < 0 && errno == EINTR) continue;
+            ok = n > 0;
+            if (ok) done += static_cast<std::size_t>(n);
+        }
+        const int err = errno;
+        if (fd >= 0) ::close(fd);
+        if (ok && ::renameat(failed_fd_, tmp.c_str(), failed_fd_, name.c_str()) == 0) return "";
+        ::unlinkat(failed_fd_, tmp.c_str(), 0);
+        return "its failure record was not written (" + std::string(std::strerror(ok ? errno : err))
+            + ": the sweep's failed/ folder was removed or replaced)";
+    }
+
+public:
+    SweepRunner(const SweepRunner&) = delete;
+    SweepRunner& operator=(const SweepRunner&) = delete;
+    ~SweepRunner()
+    {
+        if (failed_fd_ >= 0) ::close(failed_fd_);
+    }
 };
 
 }  // namespace

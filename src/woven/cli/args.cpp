@@ -4,6 +4,7 @@
 
 #include "woven/cli/commands.hpp"
 #include "woven/common/error.hpp"
+#include "woven/common/format.hpp"
 
 namespace woven::cli {
 
@@ -69,5 +70,11 @@ model::BiasBending parse_bias_bending(const std::string& text, const std::string
 {
     return parse_choice(text, option, model::kBiasBendingNames);
 }
+
+std::string int_type(long long lo, long long hi) { return "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]"; }
+
+std::string number_type(double lo, double hi) { return "NUMBER in [" + format_g(lo) + ", " + format_g(hi) + "]"; }
+
+std::string positive_type(double hi) { return "NUMBER in (0, " + format_g(hi) + "]"; }
 
 }  // namespace woven::cli

@@ -19,6 +19,21 @@ namespace woven::cli {
 using app::kCommandLine;
 
 /// An integer in [lo, hi] ("command line: --threads: expected an integer in [0, 4096], got '-1'").
+/// --help's type of an option, from the range or the table its value is checked against:
+/// "INT in [3, 100000]", "NUMBER in [0, 0.01]", "NUMBER in (0, 100]", "{fast,paper}".
+std::string int_type(long long lo, long long hi);
+inline std::string int_type(const long long (&range)[2]) { return int_type(range[0], range[1]); }
+std::string number_type(double lo, double hi);
+/// A seed's: any unsigned 64-bit integer (parse_seed).
+inline constexpr const char* kSeedType = "INT in [0, 18446744073709551615]";
+std::string positive_type(double hi);
+template <class E, std::size_t N> std::string choice_type(const std::array<Named<E>, N>& table)
+{
+    std::string t = "{";
+    for (const char* name : names_of(table)) t += std::string(t.size() > 1 ? "," : "") + name;
+    return t + "}";
+}
+
 long long parse_integer(const std::string& text, const std::string& option, long long lo, long long hi);
 /// An unsigned 64-bit integer (a seed: 0 .. 18446744073709551615, nothing clamped).
 std::uint64_t parse_seed(const std::string& text, const std::string& option);

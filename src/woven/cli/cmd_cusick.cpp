@@ -130,29 +130,43 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                 "from the warp towards the weft.");
     sub->add_option("FABRIC", o->fabric, "A built-in fabric (see `woven fabrics`) or a fabric .toml file")->required();
     sub->add_option("--specimen-cm", o->specimen_cm, "Specimen diameter, cm (the standard's 30; 24 and 36 are also used)")
-        ->capture_default_str();
-    sub->add_option("--disc-cm", o->disc_cm, "Support disc diameter, cm")->capture_default_str();
-    sub->add_option("--spacing-cm", o->spacing_cm, "Particle spacing, cm (default 0.5: where the drape coefficient has converged)");
-    sub->add_option("--seeds", o->seeds, "Runs, each from a different small random perturbation of the flat start")->capture_default_str()->type_name("INT");
-    sub->add_option("--seed", o->seed, "Seed of the first run (the others: seed + 1, ...)")->capture_default_str()->type_name("INT");
-    sub->add_option("--threads", o->threads, "Worker threads (0: all cores)")->type_name("INT");
-    sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)")->type_name("INT");
-    sub->add_option("--shear-law", o->shear_law, "deembedded (the default: the material's law, docs/VALIDATION.md) or measured (the input curve as read)");
+        ->capture_default_str()
+        ->type_name(positive_type(kCusickMaxDiameter_cm));
+    sub->add_option("--disc-cm", o->disc_cm, "Support disc diameter, cm")
+        ->capture_default_str()
+        ->type_name(positive_type(kCusickMaxDiameter_cm));
+    sub->add_option("--spacing-cm", o->spacing_cm, "Particle spacing, cm (default 0.5: where the drape coefficient has converged)")
+        ->type_name(positive_type(kCusickMaxSpacing_cm));
+    sub->add_option("--seeds", o->seeds, "Runs, each from a different small random perturbation of the flat start")
+        ->capture_default_str()
+        ->type_name(int_type(kCusickSeedsRange));
+    sub->add_option("--seed", o->seed, "Seed of the first run (the others: seed + 1, ...)")->capture_default_str()->type_name(kSeedType);
+    sub->add_option("--threads", o->threads, "Worker threads (0: all cores)")->type_name(int_type(kCusickThreadsRange));
+    sub->add_option("--max-steps", o->max_steps, "Step limit per run (0: the solver's default)")->type_name(int_type(kCusickMaxStepsRange));
+    sub->add_option("--shear-law", o->shear_law,
+                    "deembedded (the default: the material's law, docs/VALIDATION.md) or measured (the input curve as read)")
+        ->type_name(choice_type(model::kShearLawNames));
     sub->add_option("--clamp", o->clamp,
                     "pinned (the default: the particles within the disc's radius + --clamp-margin spacings pinned) or discs "
-                    "(the ring out to the rim held between the support disc and a clamp disc, true circles)");
-    sub->add_option("--clamp-margin", o->clamp_margin, "The pinned clamp's reach beyond the disc's rim, in spacings (default 0.5)");
-    sub->add_option("--clamp-gap-mm", o->clamp_gap_mm, "The discs clamp's gap between the discs, mm (default: the contact distance, 1 mm)");
+                    "(the ring out to the rim held between the support disc and a clamp disc, true circles)")
+        ->type_name(choice_type(testers::kCusickClampNames));
+    sub->add_option("--clamp-margin", o->clamp_margin, "The pinned clamp's reach beyond the disc's rim, in spacings (default 0.5)")
+        ->type_name(number_type(kCusickClampMarginRange[0], kCusickClampMarginRange[1]));
+    sub->add_option("--clamp-gap-mm", o->clamp_gap_mm, "The discs clamp's gap between the discs, mm (default: the contact distance, 1 mm)")
+        ->type_name(positive_type(1e3 * testers::CusickOptions{}.solver.contact_distance));
     sub->add_option("--hysteresis", o->hysteresis,
                     "loading-branch (the default: each KES curve's loading branch as an elastic energy) or friction (the mean "
-                    "line plus friction inside the weave, its slip state carried through the drape)");
+                    "line plus friction inside the weave, its slip state carried through the drape)")
+        ->type_name(choice_type(model::kHysteresisNames));
     sub->add_option("--protocol", o->protocol,
                     "release (the default: the clamped specimen released flat, its overhang falling to rest) or lowered (the "
-                    "overhang on a plate lowered in 1 cm stages, each to rest, then the plate taken away: a monotonic loading)");
+                    "overhang on a plate lowered in 1 cm stages, each to rest, then the plate taken away: a monotonic loading)")
+        ->type_name(choice_type(testers::kCusickProtocolNames));
     sub->add_option("--shakes", o->shakes,
                     "After the protocol, this many cycles of a quasi-static vertical shake of the disc (to rest at 1.5 g, at "
-                    "0.5 g, in the clamp's frame), then to rest at g (default 0)")->type_name("INT");
-    sub->add_option("--bias", o->bias, kBiasBendingHelp);
+                    "0.5 g, in the clamp's frame), then to rest at g (default 0)")
+        ->type_name(int_type(kCusickShakesRange));
+    sub->add_option("--bias", o->bias, kBiasBendingHelp)->type_name(choice_type(model::kBiasBendingNames));
     sub->add_option("--start", o->start, "Start from this cusick.obj (of the same specimen and spacing) instead of the flat start");
     sub->add_flag("--search", o->search,
                   "Search the rest states: the release, one start per guide count (--modes: the overhang first falls onto "
@@ -160,7 +174,8 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                   "times stiffer in bending, each draped to rest; the prediction is the state of lowest energy, every "
                   "state listed in cusick.json");
     sub->add_option("--modes", o->modes, "--search: the guide counts, one (2, the default), a range 2-12 or a list 3,5,7");
-    sub->add_option("--jobs", o->jobs, "--search: starts run at once (default 1; each on --threads threads)")->type_name("INT");
+    sub->add_option("--jobs", o->jobs, "--search: starts run at once (default 1; each on --threads threads)")
+        ->type_name(int_type(kCusickJobsRange));
     sub->add_option("--out", o->out, "Output directory (default out/cusick-<fabric>)");
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->callback([o, &exit_code] { exit_code = run_cusick(*o); });

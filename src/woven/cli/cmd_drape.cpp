@@ -100,28 +100,33 @@ void add_drape_command(CLI::App& app, int& exit_code)
     sub->add_option("SCENE", o->scene, "A built-in scene name (see `woven scenes`) or a scene .toml file")
         ->capture_default_str();
     sub->add_option("--fabric", o->fabric, "Fabric: a built-in name or a fabric .toml file (overrides the scene's)");
-    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)")->type_name("INT");
+    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (the cloth's size is kept)")
+        ->type_name(int_type(kGridRange));
     sub->add_option("--solver", o->solver, "Solver: fast (implicit steps, projected Newton) or paper (Sec. 3)")
-        ->check(CLI::IsMember(names_of(sim::kSolverKindNames)));
+        ->type_name(choice_type(sim::kSolverKindNames));
     sub->add_option("--seed", o->seed, "Random seed: the fast solver's start perturbation (--perturb), the paper solver's stochastic phase")
-        ->type_name("INT");
-    sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)")->type_name("INT");
-    sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)")->type_name("INT");
+        ->type_name(kSeedType);
+    sub->add_option("--threads", o->threads, "Worker threads (0: all cores available to the process)")
+        ->type_name(int_type(0, io::kMaxThreads));
+    sub->add_option("--max-steps", o->max_steps, "Step limit (0: the solver's default)")->type_name(int_type(kMaxStepsRange));
     sub->add_option("--perturb", o->perturb,
-                    "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)");
+                    "Fast solver: amplitude of the seeded random perturbation of the start, m (0: none; the seed is --seed)")
+        ->type_name(number_type(0, io::kMaxPerturbation_m));
     sub->add_option("--hysteresis", o->hysteresis,
                     "loading-branch (each KES curve's loading branch as an elastic energy) or friction (the mean line plus friction "
                     "inside the weave, its slip state updated after each step: the drape remembers its path; fast solver); "
-                    "overrides the scene's [model] hysteresis");
-    sub->add_option("--bias", o->bias, std::string(kBiasBendingHelp) + "; overrides the scene's [model] bias_bending");
+                    "overrides the scene's [model] hysteresis")
+        ->type_name(choice_type(model::kHysteresisNames));
+    sub->add_option("--bias", o->bias, std::string(kBiasBendingHelp) + "; overrides the scene's [model] bias_bending")
+        ->type_name(choice_type(model::kBiasBendingNames));
     sub->add_option("--start", o->start,
                     "Start from this drape.obj (of the same scene and grid, e.g. an earlier drape's) instead of the scene's "
                     "flat start; its SHA-256 goes into report.json");
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
     sub->add_flag("--no-render", o->no_render, "Do not render drape.png");
     sub->add_flag("--ply-ascii", o->ply_ascii, "Write drape.ply as ASCII PLY (default: binary little-endian)");
-    sub->add_option("--width", o->width, "Picture width, pixels")->capture_default_str()->type_name("INT");
-    sub->add_option("--height", o->height, "Picture height, pixels")->capture_default_str()->type_name("INT");
+    sub->add_option("--width", o->width, "Picture width, pixels")->capture_default_str()->type_name(int_type(kPictureSizeRange));
+    sub->add_option("--height", o->height, "Picture height, pixels")->capture_default_str()->type_name(int_type(kPictureSizeRange));
     sub->callback([o, &exit_code] { exit_code = run_drape(*o); });
 }
 

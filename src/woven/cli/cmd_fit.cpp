@@ -33,8 +33,9 @@ void add_fit_command(CLI::App& app, int& exit_code)
     sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")
         ->required();
     sub->add_option("--out", options->out, "Output directory (default out/fit-<name>)");
-    sub->add_option("--sigma-cm", options->sigma_cm, "Particle spacing sigma for the energy tables, cm (0.01 .. 100: drape's smallest spacing to 1 m)")
-        ->capture_default_str();
+    sub->add_option("--sigma-cm", options->sigma_cm, "Particle spacing sigma for the energy tables, cm (drape's smallest spacing to 1 m)")
+        ->capture_default_str()
+        ->type_name(number_type(kFitSigmaRange_cm[0], kFitSigmaRange_cm[1]));
     sub->callback([options, &exit_code] { exit_code = run_fit(*options); });
 }
 

@@ -126,21 +126,32 @@ void add_kes_test_command(CLI::App& app, int& exit_code)
                 "and <test>_loop.png. The files are one set: "
                 "kes-report.json is written last and names every file with its size and SHA-256; files of an earlier run's other tests are removed.");
     sub->add_option("FABRIC", options->fabric, "A built-in fabric name (see `woven fabrics`) or a fabric .toml file")->required();
-    sub->add_option("--test", options->test, "cantilever, bending, shear or all")->capture_default_str();
-    sub->add_option("--direction", options->direction, "warp, weft or both")->capture_default_str();
+    sub->add_option("--test", options->test, "cantilever, bending, shear or all")
+        ->capture_default_str()
+        ->type_name(choice_type(kKesTestsNames));
+    sub->add_option("--direction", options->direction, "warp, weft or both")
+        ->capture_default_str()
+        ->type_name(choice_type(kKesDirectionsNames));
     sub->add_option("--sigma-cm", options->sigma_cm,
-                    "Particle spacing of the specimens, cm (default: cantilever 0.25, bending 0.1, shear 0.25)");
+                    "Particle spacing of the specimens, cm (default: cantilever 0.25, bending 0.1, shear 0.25)")
+        ->type_name(number_type(kKesSigmaRange_cm[0], kKesSigmaRange_cm[1]));
     sub->add_option("--shear-length-cm", options->shear_length_cm,
-                    "FB1 specimen length along the clamps, cm (default 20, the instrument's; longer shows the free ends' effect on G)");
-    sub->add_option("--bending-form", options->bending_form, "work or secant (default: the model's, work)");
-    sub->add_option("--discretization", options->discretization, "convergent or paper (default: the model's, convergent)");
-    sub->add_option("--shear-law", options->shear_law,
-                    "deembedded (the material's law, raised by the FB1 specimen's end effect: the default) or measured (the input curve as read)");
+                    "FB1 specimen length along the clamps, cm (default 20, the instrument's; longer shows the free ends' effect on G)")
+        ->type_name(number_type(kKesShearLengthRange_cm[0], kKesShearLengthRange_cm[1]));
+    sub->add_option("--bending-form", options->bending_form, "work or secant (default: the model's, work)")
+        ->type_name(choice_type(kBendingFormNames));
+    sub->add_option("--discretization", options->discretization, "convergent or paper (default: the model's, convergent)")
+        ->type_name(choice_type(model::kDiscretizationNames));
+    sub->add_option(
+           "--shear-law", options->shear_law,
+           "deembedded (the material's law, raised by the FB1 specimen's end effect: the default) or measured (the input curve as read)")
+        ->type_name(choice_type(model::kShearLawNames));
     sub->add_option("--hysteresis", options->hysteresis,
                     "friction (the default here: the mean line plus friction elements, full KES loops) or loading-branch (the loading "
-                    "branch as an elastic energy, the loading sweep only)");
+                    "branch as an elastic energy, the loading sweep only)")
+        ->type_name(choice_type(model::kHysteresisNames));
     sub->add_option("--threads", options->threads, "Worker threads: oneTBB, OpenMP and the BLAS (0: all cores, the default)")
-        ->type_name("INT");
+        ->type_name(int_type(0, io::kMaxThreads));
     sub->add_option("--out", options->out, "Output directory (default out/kes-<name>)");
     sub->add_flag("--convergence", options->convergence,
                   "Also the cantilever's grid convergence: bending length vs the exact elastica at L/c = 1..3 and spacings S, S/2, S/4 "

@@ -8,6 +8,7 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 #if defined(__GLIBC__)
@@ -45,10 +46,12 @@ void keep_freed_memory()
 /// spins in blas_memory_alloc for ever and the exit handler waits for it (every command, even
 /// --version, printed its output and never ended). woven runs its BLAS on one thread anyway
 /// (sim/drape.cpp, sim/linear_solver.cpp), so under a limit the process starts again with
-/// OPENBLAS_NUM_THREADS=1 (read only at load time); the exec ends the spinning threads.
+/// OPENBLAS_NUM_THREADS=1 (read only at load time); the exec ends the spinning threads. A value
+/// the user set is replaced too (OPENBLAS_NUM_THREADS=64 under `ulimit -v 200000`: `woven
+/// --version` never ended, issue 53); only 1 is kept.
 void one_blas_thread_under_a_memory_limit(char** argv)
 {
-    if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr) return;
+    if (const char* t = std::getenv("OPENBLAS_NUM_THREADS"); t != nullptr && std::string_view(t) == "1") return;
     rlimit as {}, data {};
     const bool limited = (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) ||
                          (::getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY);

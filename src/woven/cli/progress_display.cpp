@@ -61,16 +61,74 @@ double activity_delay_s()
     return 2.0;
 }
 
-ProgressDisplay::ProgressDisplay(std::FILE* out, bool terminal, double delay_s, int columns)
-    : out_(out), tty_(terminal), delay_s_(delay_s), columns_(columns)
-{}
+ProgressDisplay::ProgressDisplay(std::FILE* out, bool terminal, double delay_s, int columns, double heartbeat_s)
+    : out_(out), tty_(terminal), delay_s_(delay_s), columns_(columns), heartbeat_s_(heartbeat_s)
+{
+    if (heartbeat_s_ > 0)
+        heart_ = std::jthread([this](std::stop_token stop) {
+            while (!stop.stop_requested()) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(100));
+                beat();
+            }
+        });
+}
+
+ProgressDisplay::~ProgressDisplay()
+{
+    if (heart_.joinable()) {
+        heart_.request_stop();
+        heart_.join();
+    }
+}
+
+void ProgressDisplay::beat()
+{
+    const std::lock_guard lock(mutex_);
+    if (quiet_ || going_.empty()) return;
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_out_).count() < heartbeat_s_) return;
+    // The innermost state: the latest event's.
+    const Going* g = nullptr;
+    int which = 0;
+    for (const auto& [k, v] : going_)
+        if (!g || v.at > g->at) {
+            g = &v;
+            which = k;
+        }
+    const double since = std::chrono::duration<double>(now - g->at).count();
+    if (which >= 0 && g->wall_s + since < delay_s_) return;  // an activity speaks only after its delay
+    const std::string line = strf("still working: %s, %.1f s (%.1f s since the last update)", g->what.c_str(), g->wall_s + since, since);
+    if (tty_)
+        std::fprintf(out_, "\r%s\033[K", fit_line(line, columns()).c_str());
+    else
+        std::fprintf(out_, "woven: %s\n", line.c_str());
+    std::fflush(out_);
+    wrote();
+}
 
 int ProgressDisplay::columns() const { return columns_ > 0 ? columns_ : progress_columns(); }
 
 bool ProgressDisplay::operator()(const app::ProgressEvent& e)
 {
+    const std::lock_guard lock(mutex_);
     if (quiet_) return true;
     const std::string kind = e.event;
+    if (heartbeat_s_ > 0) {  // the state the heartbeat draws again
+        char limit[16] = "";
+        if (e.max_steps > 0) std::snprintf(limit, sizeof limit, "/%d", e.max_steps);
+        if (kind == "step")
+            going_[-1] = Going{strf("step %d%s, residual %.3g m g (tolerance %.3g)", e.step, limit, e.residual, e.tolerance), e.wall_s,
+                               Clock::now()};
+        else if (kind == "iteration")
+            going_[-1] = Going{strf("step %d, Newton iteration %d", e.step, e.iteration), e.wall_s, Clock::now()};
+        else if (kind == "steps-end")
+            going_.erase(-1);
+        else if (kind == "activity")
+            going_[e.activity] = Going{e.label + ": " + strf("%.0f %%", 100 * e.fraction) + (e.detail.empty() ? "" : " (" + e.detail + ")"),
+                                       e.wall_s, Clock::now()};
+        else if (kind == "activity-end")
+            going_.erase(e.activity);
+    }
     if (kind == "step")
         on_step(e);
     else if (kind == "iteration")
@@ -103,6 +161,7 @@ void ProgressDisplay::show(const char* compact, const char* line)
         std::fprintf(out_, "%s\n", line);
     }
     std::fflush(out_);
+    wrote();
 }
 
 void ProgressDisplay::on_step(const app::ProgressEvent& e)
@@ -176,6 +235,7 @@ void ProgressDisplay::on_activity(const app::ProgressEvent& e)
                      e.detail.empty() ? "" : (" (" + e.detail + ")").c_str(), time.c_str());
     }
     std::fflush(out_);
+    wrote();
 }
 
 void ProgressDisplay::on_activity_end(const app::ProgressEvent& e)
@@ -189,11 +249,13 @@ void ProgressDisplay::on_activity_end(const app::ProgressEvent& e)
     else
         std::fprintf(out_, "woven: %s: %s\n", e.label.c_str(), took.c_str());
     std::fflush(out_);
+    wrote();
 }
 
 void show_progress_on_stderr()
 {
-    g_display = std::make_shared<ProgressDisplay>(stderr, ::isatty(STDERR_FILENO) == 1, activity_delay_s());
+    // The heartbeat: at least every 2 s while a drape or an activity waits (issue 53).
+    g_display = std::make_shared<ProgressDisplay>(stderr, ::isatty(STDERR_FILENO) == 1, activity_delay_s(), 0, 2.0);
     app::set_progress_sink([display = g_display](const app::ProgressEvent& e) { return (*display)(e); });
 }
 

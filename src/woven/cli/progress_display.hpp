@@ -4,9 +4,12 @@
 // state reached is written as a complete set marked interrupted, exit 128 + the signal: 130,
 // 143); a second exits at once without publishing anything (the previous output set stays as it
 // was; the new run's temporaries are removed by the next run).
+#include <chrono>
 #include <cstdio>
 #include <map>
+#include <mutex>
 #include <string>
+#include <thread>
 
 #include "woven/app/progress.hpp"
 
@@ -27,13 +30,26 @@ double activity_delay_s();
 /// terminal a bar that fills with the fraction done, the label and the time, redrawn in place;
 /// otherwise a line "woven: LABEL: 42 % (DETAIL), 3.1 s" at most every two seconds; it ends with
 /// how long it took, if it said anything. Times are the events' own (wall_s).
+///
+/// With `heartbeat_s` > 0 a drape's steps or an activity that has drawn nothing for that long
+/// (one Newton iteration of a large cusick, one static solve of kes-test: no event for minutes)
+/// is drawn again from a thread of the display's own: the last state, the time since it and the
+/// time in all ("woven: still working: ..."), so that the command speaks at least every
+/// `heartbeat_s` seconds while it waits (issue 53).
 class ProgressDisplay {
 public:
     /// `columns` 0: progress_columns() at each line.
-    ProgressDisplay(std::FILE* out, bool terminal, double delay_s, int columns = 0);
+    ProgressDisplay(std::FILE* out, bool terminal, double delay_s, int columns = 0, double heartbeat_s = 0);
+    ~ProgressDisplay();
+    ProgressDisplay(const ProgressDisplay&) = delete;
+    ProgressDisplay& operator=(const ProgressDisplay&) = delete;
     /// Draws `e` (nothing while quiet); true (the display never stops a job).
     bool operator()(const app::ProgressEvent& e);
-    void set_quiet(bool quiet) { quiet_ = quiet; }
+    void set_quiet(bool quiet)
+    {
+        const std::lock_guard lock(mutex_);
+        quiet_ = quiet;
+    }
 
 private:
     void on_step(const app::ProgressEvent& e);
@@ -60,6 +76,22 @@ private:
     double last_wall_ = 0;
     /// Activities that are going: when each last drew (absent: never).
     std::map<int, double> activities_;
+    // The heartbeat.
+    using Clock = std::chrono::steady_clock;
+    /// The state drawn again: what is going ("" when nothing is), its time at the last event.
+    struct Going {
+        std::string what;
+        double wall_s = 0;
+        Clock::time_point at;
+    };
+    void wrote() { last_out_ = Clock::now(); }  ///< something was drawn
+    void beat();                                ///< draws the state again when it is due
+    double heartbeat_s_ = 0;
+    bool steps_going_ = false;
+    std::map<int, Going> going_;  ///< the activities going (key: activity), -1: the drape's steps
+    Clock::time_point last_out_ = Clock::now();
+    std::mutex mutex_;
+    std::jthread heart_;  ///< last: started when everything else is
 };
 
 /// The display on stderr as app's progress sink (for the process).

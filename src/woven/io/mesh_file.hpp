@@ -12,6 +12,10 @@ namespace woven::io {
 inline constexpr std::size_t kMaxObjBytes = 256u << 20;  ///< largest OBJ file read (256 MiB)
 inline constexpr long long kMaxObjVertices = 10'000'000;  ///< most vertices of one mesh
 inline constexpr double kMaxObjCoordinate = 1e6;           ///< largest |coordinate| in the file (file units)
+/// Most rows of a mesh given as values (`vertices_m`, `faces`: woven.Obstacle.mesh): each costs
+/// about 1 KB on its way in (a Python list, JSON, a TOML array: 2 M faces took 2.1 GB and 43 s),
+/// so 200,000 rows are some 0.2 GB. A larger mesh is read from a file (about 100 bytes a face).
+inline constexpr long long kMaxInlineMeshRows = 200'000;
 
 /// Parses OBJ text; `source` names it in errors. Every number is checked: a coordinate that is
 /// not a finite number within +-kMaxObjCoordinate, a vertex index that is not an integer, is 0,

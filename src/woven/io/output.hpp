@@ -1,7 +1,7 @@
 #pragma once
 // Output writers: atomic file writes and the draped cloth as a mesh (OBJ, PLY).
 //
-// Grid convention (MODEL-NOTES, model/cloth_model.hpp): particle (i, j) has index i + nu * j;
+// Grid convention (model/grid.hpp, docs/MODEL.md): particle (i, j) has index i + nu * j;
 // weft threads run along i (u), warp threads along j (v). Each grid cell
 // (i, j)-(i+1, j)-(i+1, j+1)-(i, j+1) gives two triangles,
 //   (i, j) (i+1, j) (i+1, j+1)   and   (i, j) (i+1, j+1) (i, j+1),

@@ -337,10 +337,18 @@ void OutputSet::publish(const std::string& manifest_name, std::string_view manif
                                manifest_name + ")");
         std::erase(temps_, f.temp);
     }
-    for (const auto& m : members_) {
-        bool written = false;
-        for (const auto& f : files_) written = written || f.name == m;
-        if (!written && earlier.count(m)) ::unlinkat(dirfd_, m.c_str(), 0);  // the earlier set's file, not of this set
+    // Every file the earlier manifest lists that this run does not write: the earlier set's
+    // (cusick --seeds 3 then --seeds 1 left shadow-seed*.png beside the new set's shadow.png).
+    // Only plain names in this folder, never the manifest, a temporary or a folder: the list
+    // is read from a file anyone may have changed.
+    std::set<std::string> written{manifest_name};
+    for (const auto& f : files_) written.insert(f.name);
+    for (const auto& m : earlier) {
+        if (written.count(m) || m.empty() || m.front() == '.' || m.find('/') != std::string::npos || m.find('\0') != std::string::npos)
+            continue;
+        struct stat st {};
+        if (::fstatat(dirfd_, m.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode)))
+            ::unlinkat(dirfd_, m.c_str(), 0);
     }
     if (::renameat(dirfd_, manifest_temp.c_str(), dirfd_, manifest_name.c_str()) != 0)
         throw RuntimeError(manifest + ": cannot move into place: " + std::strerror(errno));

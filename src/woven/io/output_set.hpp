@@ -4,7 +4,7 @@
 // Every file is first written under a unique temporary name in the output directory
 // (".woven-tmp.<pid>.<n>.<name>"). publish() then, holding an exclusive flock on the directory
 // (so two runs sharing a directory take turns): removes the old manifest,
-// renames the new files into place, removes the set's other files left by an earlier run, and
+// renames the new files into place, removes every other file the earlier manifest lists, and
 // writes the manifest (report.json) last, naming every file of the set with its size and
 // SHA-256 (SIGINT, SIGTERM and SIGHUP wait while it does: raised again once it is done, so only
 // SIGKILL can stop a publish half way). A directory holds a complete set exactly when its manifest exists and every file it
@@ -34,9 +34,10 @@ void hold_output_dir(const std::string& dir);
 
 class OutputSet {
 public:
-    /// `dir` must exist. `members`: every file name the set can hold (besides the manifest);
-    /// those this run does not write are removed at publish when the earlier set's manifest
-    /// lists them. Removes stale temporaries.
+    /// `dir` must exist. `members`: every file name the set can hold (besides the manifest),
+    /// checked at publish to be no folder. Every file the earlier set's manifest lists (plain
+    /// names in `dir`, not hidden) that this run does not write is removed at publish, member or
+    /// not. Removes stale temporaries.
     OutputSet(std::string dir, std::vector<std::string> members);
     OutputSet(const OutputSet&) = delete;
     OutputSet& operator=(const OutputSet&) = delete;

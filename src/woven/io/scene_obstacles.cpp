@@ -121,15 +121,19 @@ ObstaclePtr build_disc(const TomlTable& t, const ObstacleContext&)
 ObstaclePtr finish_mesh(const TomlTable& t, geometry::TriangleMesh mesh, double scale, const Vec3& rotation, const Vec3& translate);
 
 /// A mesh written in the table (from Python, woven.Obstacle.mesh): `vertices_m` [[x, y, z], ...]
-/// and `faces` [[a, b, c], ...], 0-based vertex indices.
+/// and `faces` [[a, b, c], ...], 0-based vertex indices; rows are named from 0 as numpy names them
+/// (`vertices_m[0]`), at most kMaxInlineMeshRows of each.
 geometry::TriangleMesh inline_mesh(const TomlTable& t)
 {
     const auto rows = [&](std::string_view key, const std::string& what) -> const toml::array& {
         const toml::node* n = t.node(key);
         const toml::array* a = n ? n->as_array() : nullptr;
         if (!a || a->empty()) t.fail(key, "expected " + what);
-        if (static_cast<long long>(a->size()) > kMaxObjVertices)
-            t.fail(key, "expected at most " + std::to_string(kMaxObjVertices) + " rows, got " + std::to_string(a->size()));
+        if (static_cast<long long>(a->size()) > kMaxInlineMeshRows)
+            t.fail(key,
+                   "expected at most " + std::to_string(kMaxInlineMeshRows)
+                       + " rows (about 1 KB each given as values; a larger mesh from a file: type = \"mesh\", file = ...), got "
+                       + std::to_string(a->size()));
         return *a;
     };
     const toml::array& v = rows("vertices_m", "a non-empty array of [x, y, z] vertices in m");
@@ -137,7 +141,7 @@ geometry::TriangleMesh inline_mesh(const TomlTable& t)
     geometry::TriangleMesh mesh;
     mesh.vertices.reserve(v.size());
     for (std::size_t k = 0; k < v.size(); ++k) {
-        const std::string field = t.field("vertices_m") + "[" + std::to_string(k + 1) + "]";
+        const std::string field = t.field("vertices_m") + "[" + std::to_string(k) + "]";
         const toml::array* xyz = v.get(k)->as_array();
         if (!xyz || xyz->size() != 3) t.fail_at(field, "expected [x, y, z] in m" + TomlReader::at(*v.get(k)));
         mesh.vertices.emplace_back(t.to_number(*xyz->get(0), field, kObstacleCoordinate), t.to_number(*xyz->get(1), field, kObstacleCoordinate),
@@ -146,7 +150,7 @@ geometry::TriangleMesh inline_mesh(const TomlTable& t)
     const long long last = static_cast<long long>(v.size()) - 1;
     mesh.faces.reserve(f.size());
     for (std::size_t k = 0; k < f.size(); ++k) {
-        const std::string field = t.field("faces") + "[" + std::to_string(k + 1) + "]";
+        const std::string field = t.field("faces") + "[" + std::to_string(k) + "]";
         const toml::array* abc = f.get(k)->as_array();
         if (!abc || abc->size() != 3) t.fail_at(field, "expected [a, b, c], 0-based vertex indices" + TomlReader::at(*f.get(k)));
         std::array<int, 3> face{};

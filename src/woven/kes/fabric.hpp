@@ -89,7 +89,7 @@ FabricData without_hysteresis(const FabricData& fabric);
 
 /// Checks a fabric for plausibility and consistency; throws InputError naming `source` and the
 /// field (e.g. "bending.warp.B") with what is expected. Returns warnings (values outside the
-/// typical ranges of KES-DATA but still physically possible).
+/// typical woven-fabric ranges, docs/FABRIC-FORMAT.md, but still physically possible).
 std::vector<std::string> validate(const FabricData& f, const std::string& source);
 
 /// Checks one curve (>= 3 points, finite, x strictly increasing from >= 0, y non-decreasing,

@@ -1,5 +1,5 @@
 #pragma once
-// The global energy of the cloth (MODEL-NOTES "write it once, globally"), each term once:
+// The global energy of the cloth (docs/MODEL.md "Each term once"), each term once:
 //
 //   E = sum_{pairs i<j, r_ij < sigma} R(r_ij)            (Eq. 2, 4; all pairs, spatial hash)
 //     + sum_{4-connected edges}        S(r_ij)            (Eq. 3, 5)
@@ -120,7 +120,7 @@ double bias_rigidity_of_threads(const kes::FittedFabric& fabric);
 double fabric_twist_rigidity(const kes::FittedFabric& fabric, units::GramForce gf);
 
 /// The extension (%) at 500 gf/cm assumed when a fabric gives no KES tensile values: a typical
-/// woven shirting (KES-DATA.md ranges 3-8 %).
+/// woven shirting (published EMT of woven fabrics: 3-8 %).
 inline constexpr double kDefaultEMT = 5.0;
 /// The KES tensile load EMT is measured at, gf/cm.
 inline constexpr double kEMTLoad = 500.0;
@@ -130,7 +130,7 @@ double tensile_stiffness_from_emt(double emt_percent, units::GramForce gf);
 
 /// Particle masses (kg): W times the area each active particle stands for, 0 for an inactive
 /// one. W in kg/m^2. `area_m2` (one per grid particle, e.g. model::ClothCut::area for a cloth
-/// of any outline) gives the areas; empty, each stands for a sigma x sigma patch (MODEL-NOTES).
+/// of any outline) gives the areas; empty, each stands for a sigma x sigma patch (the paper's m = W sigma^2).
 std::vector<double> particle_masses(const Grid& grid, const std::vector<char>& active, double areal_density_kg_m2,
     const std::vector<double>& area_m2 = {});
 

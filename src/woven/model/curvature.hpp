@@ -1,6 +1,6 @@
 #pragma once
 // Thread curvature from the bending angle, the paper's Eq. (13) with its sign corrected
-// (MODEL-NOTES): the printed small-angle branch -(pi/4)^2 beta/theta + alpha + (pi/4) beta tends
+// (docs/MODEL.md "Eq. 13's sign"): the printed small-angle branch -(pi/4)^2 beta/theta + alpha + (pi/4) beta tends
 // to -infinity and is not C1; the branch used here is C0 and C1 at pi/4 and -> +infinity at 0:
 //
 //   K(theta) = (pi/4)^2 beta / theta + alpha - (pi/4) beta,   0 < theta <= pi/4

@@ -37,7 +37,7 @@ struct ThreadSpacing {
 };
 
 /// Chooses C0 so that a thread carrying the weight of a hanging length `hang_m` of cloth
-/// (tension W g hang sigma per thread) is stretched by at most `max_strain` (MODEL-NOTES: about
+/// (tension W g hang sigma per thread) is stretched by at most `max_strain` (docs/MODEL.md "Eq. 2's units": about
 /// 1 %): S'(r) = 5 C0 eps^4 / sigma = tension.
 double choose_C0(double areal_density_kg_m2, double gravity, double sigma, double hang_m, double max_strain = 0.01);
 

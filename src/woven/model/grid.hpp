@@ -1,5 +1,5 @@
 #pragma once
-// The particle grid (MODEL-NOTES "Grid and thread directions"), stated once here: particle
+// The particle grid (docs/MODEL.md "The grid"), stated once here: particle
 // (i, j) has index i + nu * j; weft threads run along i (u direction), warp threads along j
 // (v direction); the rest spacing sigma is the distance of 4-connected particles.
 #include "woven/common/types.hpp"

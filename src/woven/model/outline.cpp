@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "woven/common/error.hpp"
 
@@ -330,6 +332,48 @@ ClothCut cut_grid(const Grid& g, const Outline& outline, const std::string& sour
     return cut;
 }
 
+namespace {
+
+/// A clipped cell's triangles with no vertex but the polygon's: the points clipping projected
+/// along a side of the cell (between the points where the outline crosses it) dropped, then a
+/// fan when what remains is convex (every cell of a convex outline, a disc's); otherwise
+/// triangulate's slabs. The slabs add points along the cell's sides where the neighbouring cell
+/// has none: T-junctions, open edges in a mesh reader (issue 53).
+std::vector<std::array<Vec2, 3>> cell_triangles(const Ring& poly, const Vec2& lo, const Vec2& hi)
+{
+    const double tol = 1e-12 * (hi - lo).norm();
+    const auto sides = [&](const Vec2& p) {
+        return (std::abs(p.x() - lo.x()) <= tol ? 1 : 0) | (std::abs(p.x() - hi.x()) <= tol ? 2 : 0)
+            | (std::abs(p.y() - lo.y()) <= tol ? 4 : 0) | (std::abs(p.y() - hi.y()) <= tol ? 8 : 0);
+    };
+    Ring r = poly;
+    for (bool changed = true; changed && r.size() >= 3;) {
+        changed = false;
+        for (std::size_t k = 0; k < r.size() && r.size() >= 3; ++k) {
+            const Vec2& a = r[(k + r.size() - 1) % r.size()];
+            const Vec2& b = r[k];
+            const Vec2& c = r[(k + 1) % r.size()];
+            if ((b - a).norm() <= tol || (sides(a) & sides(b) & sides(c)) != 0) {
+                r.erase(r.begin() + static_cast<std::ptrdiff_t>(k));
+                changed = true;
+                --k;
+            }
+        }
+    }
+    if (r.size() < 3) return triangulate(poly);
+    bool convex = true;
+    for (std::size_t k = 0; k < r.size() && convex; ++k) {
+        const Vec2 e0 = r[(k + 1) % r.size()] - r[k], e1 = r[(k + 2) % r.size()] - r[(k + 1) % r.size()];
+        convex = e0.x() * e1.y() - e0.y() * e1.x() >= -tol * (e0.norm() + e1.norm());
+    }
+    if (!convex) return triangulate(poly);
+    std::vector<std::array<Vec2, 3>> tris;
+    for (std::size_t k = 1; k + 1 < r.size(); ++k) tris.push_back({r[0], r[k], r[k + 1]});
+    return tris;
+}
+
+}  // namespace
+
 geometry::TriangleMesh cut_surface(const Grid& g, const ClothCut& cut, const Positions& x, std::vector<Vec2>* uv)
 {
     if (uv) uv->clear();
@@ -393,6 +437,8 @@ geometry::TriangleMesh cut_surface(const Grid& g, const ClothCut& cut, const Pos
     };
     const double s = g.sigma;
     const double full = s * s;
+    constexpr long kWeldSteps = 1'000'000'000;  ///< a cut edge's points rounded to 1e-9 spacings
+    std::map<std::pair<long long, long long>, int> edge_vertex;
     for (int j = 0; j + 1 < g.nv; ++j)
         for (int i = 0; i + 1 < g.nu; ++i) {
             const int p00 = g.index(i, j), p10 = g.index(i + 1, j), p01 = g.index(i, j + 1), p11 = g.index(i + 1, j + 1);
@@ -407,14 +453,31 @@ geometry::TriangleMesh cut_surface(const Grid& g, const ClothCut& cut, const Pos
                 mesh.faces.emplace_back(particle_vertex(p00), particle_vertex(p11), particle_vertex(p01));
                 continue;
             }
-            for (const auto& t : triangulate(poly)) {
-                const int base = static_cast<int>(mesh.vertices.size());
-                for (const Vec2& q : t) {
+            for (const auto& t : cell_triangles(poly, lo, hi)) {
+                int f[3];
+                for (int k = 0; k < 3; ++k) {
+                    const Vec2& q = t[k];
                     const double u = (q.x() - lo.x()) / s, v = (q.y() - lo.y()) / s;
-                    mesh.vertices.push_back((1 - u) * (1 - v) * at[p00] + u * (1 - v) * at[p10] + (1 - u) * v * at[p01] + u * v * at[p11]);
-                    if (uv) uv->push_back(q / s);
+                    // Welded: a cell corner is its particle's vertex; a point of the cut edge
+                    // (on a cell's side, shared with the next cell) is one vertex, found by its
+                    // rest position rounded to 1e-9 spacings.
+                    const long ku = std::lround(u * kWeldSteps), kv = std::lround(v * kWeldSteps);
+                    const bool corner_u = ku == 0 || ku == kWeldSteps, corner_v = kv == 0 || kv == kWeldSteps;
+                    if (corner_u && corner_v) {
+                        f[k] = particle_vertex(g.index(i + (ku != 0), j + (kv != 0)));
+                        continue;
+                    }
+                    const std::pair<long long, long long> key{static_cast<long long>(i) * kWeldSteps + ku,
+                                                              static_cast<long long>(j) * kWeldSteps + kv};
+                    const auto [it, fresh] = edge_vertex.try_emplace(key, static_cast<int>(mesh.vertices.size()));
+                    if (fresh) {
+                        mesh.vertices.push_back((1 - u) * (1 - v) * at[p00] + u * (1 - v) * at[p10] + (1 - u) * v * at[p01]
+                                                + u * v * at[p11]);
+                        if (uv) uv->push_back(q / s);
+                    }
+                    f[k] = it->second;
                 }
-                mesh.faces.emplace_back(base, base + 1, base + 2);
+                if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) mesh.faces.emplace_back(f[0], f[1], f[2]);
             }
         }
     return mesh;

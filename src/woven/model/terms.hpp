@@ -29,8 +29,7 @@ enum class Derivatives {
 inline bool wants_hessian(Derivatives what) { return what == Derivatives::HESSIAN || what == Derivatives::PROJECTED; }
 
 /// The terms of Eq. (1); EnergyTerms has one field per term.
-/// TWIST is beyond the paper: the bias bending of MODEL-NOTES ("Bending in directions other than
-/// the threads"), TwistTerm.
+/// TWIST is beyond the paper: the bias bending of docs/MODEL.md ("The bias term"), TwistTerm.
 /// SEAM is beyond the paper too: the stitches of a garment's seams (seams.hpp, SeamTerm).
 enum class Term { GRAVITY, STRETCH, REPULSION, BENDING_WARP, BENDING_WEFT, TRELLIS, TWIST, SEAM };
 inline constexpr Term kAllTerms[] = {Term::GRAVITY, Term::STRETCH, Term::REPULSION, Term::BENDING_WARP, Term::BENDING_WEFT, Term::TRELLIS, Term::TWIST, Term::SEAM};
@@ -181,7 +180,7 @@ private:
     const TrellisEnergy& energy_;
 };
 
-/// Twisting of one grid cell (beyond the paper: the bias bending of MODEL-NOTES), on its corners:
+/// Twisting of one grid cell (beyond the paper: the bias bending of docs/MODEL.md), on its corners:
 ///
 ///     x2 = (i,j+1) ---- x3 = (i+1,j+1)    h = x0 - x1 - x2 + x3 (zero for any parallelogram)
 ///       |                  |              n = (x3 - x0) x (x2 - x1) / |.|, the diagonals' normal

@@ -241,10 +241,9 @@ inline void add_counters(Result& total, const Result& more)
 /// Runs the chosen solver (sim::Solver, solver.hpp: this is a loop over its step()) to equilibrium (or max_steps, or until a callback says stop). With
 /// options.threads > 0, oneTBB and OpenMP run on that many threads during the call; the BLAS on
 /// one; the process-wide counts are restored on return. Threads evaluate the model's local
-/// terms (the same bits on any count) and, from two threads on a large grid, factorise the two
-/// sides of the Newton matrix's top separator at once (sim/split_cholesky.hpp): its round-off
-/// is not the whole factorisation's, so one thread and two drape the same path to round-off,
-/// and every count from two up gives the same bits.
+/// terms (the same bits on any count) and, on a large grid, the two sides of the Newton
+/// matrix's top separator are factorised apart (sim/split_cholesky.hpp; at once from two
+/// threads, one after the other on one): every thread count gives the same bits.
 Result drape(const Problem& problem, const SolverOptions& options, const ProgressCallback& progress = {},
              const IterationCallback& iteration = {});
 

@@ -65,7 +65,8 @@ struct FastSolver {
     double stretch_weight = 1.0;
 
     FastSolver(const Problem& problem, const SolverOptions& o)
-        : model(*problem.model), obstacles(problem.obstacles), options(o), pinned(pinned_mask(problem)), mass(model.masses()), slip_eps(kFrictionSlip), pairs(model)
+        : model(*problem.model), obstacles(problem.obstacles), options(o), pinned(pinned_mask(problem)), mass(model.masses()),
+          slip_eps(kFrictionSlip), pairs(model)
     {
         const double g = model.gravity() > 0 ? model.gravity() : units::kStandardGravity;
         for (double m : mass) weight.push_back(m * g);

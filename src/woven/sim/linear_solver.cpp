@@ -57,8 +57,8 @@ struct NewtonLinearSolver::Factor {
     }
 
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
-    /// With two threads or more and a large matrix: both sides of its top separator at once,
-    /// in place of llt.
+    /// With a large matrix: the two sides of its top separator (at once from two threads), in
+    /// place of llt.
     std::unique_ptr<SplitCholesky> split;
     /// The structure last analysed for llt (H's column starts and row indices; values are not kept).
     std::vector<int> outer, inner;
@@ -166,7 +166,9 @@ void NewtonLinearSolver::factorize(const Eigen::SparseMatrix<double>& matrix)
     if (!same) {
         f.split.reset();
         std::optional<SplitCholesky::Split> split;
-        if (threads >= 2) split = SplitCholesky::find(H, kMinSplitSide, kMaxSplitSeparator);
+        // Split whatever the thread count (one thread factorises the two sides one after the
+        // other): the same sums, so the same bits at 1, 2 and 4 threads.
+        split = SplitCholesky::find(H, kMinSplitSide, kMaxSplitSeparator);
         // The split checks a pattern against its own index arrays; the whole factor keeps a
         // copy of it (9.6 MB at 201 x 201).
         if (split) {
@@ -188,7 +190,7 @@ void NewtonLinearSolver::factorize(const Eigen::SparseMatrix<double>& matrix)
     for (int attempt = 0; attempt < 8; ++attempt) {
         ++factorizations_;
         if (f.split) {
-            if (f.split->factorize(H, shift, true)) return;
+            if (f.split->factorize(H, shift, threads >= 2)) return;
         } else {
             f.llt.setShift(shift);
             f.llt.factorize(H);

@@ -7,8 +7,9 @@
 // poor model of the energy's soft modes (the projected terms drop their negative parts): there
 // the same factor preconditions CG on the exact Hessian instead (truncated Newton-CG), which
 // stops at the first direction of negative curvature (Steihaug), so the step stays a descent
-// direction. With two threads or more a large matrix is factorised in two halves at once, split
-// at the top separator of its nested-dissection tree (split_cholesky.hpp).
+// direction. A large matrix is factorised in two halves, split at the top separator of its
+// nested-dissection tree (split_cholesky.hpp): at once from two threads, one after the other on
+// one, the same sums and so the same bits either way.
 #include <functional>
 #include <memory>
 #include <vector>
@@ -66,8 +67,8 @@ public:
 
     int factorizations() const { return factorizations_; }
     /// Whether the factorisation in use is split at its top separator, its two sides
-    /// factorised at once (with oneTBB allowing two threads or more and a large matrix:
-    /// sim/split_cholesky.hpp), rather than factorised whole.
+    /// factorised apart (a large matrix, sim/split_cholesky.hpp; at once with oneTBB allowing
+    /// two threads or more), rather than factorised whole.
     bool split_factorization() const;
     int cg_iterations() const { return cg_iterations_; }
 
