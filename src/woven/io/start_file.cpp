@@ -105,6 +105,8 @@ StartState parse_start_obj(std::string_view text, const std::string& source, con
             const Vec2 g = vt[k] - origin;
             const double i = std::round(g.x()), j = std::round(g.y());
             if (std::abs(g.x() - i) > kRestTolerance || std::abs(g.y() - j) > kRestTolerance) continue;
+            // Off the grid (a vt of 9.2e18 overflowed the cast: found by fuzz_start): no particle's.
+            if (!(std::abs(i) <= 1e9 && std::abs(j) <= 1e9)) continue;
             at.emplace(std::make_pair(static_cast<long>(i), static_cast<long>(j)), static_cast<int>(k));
         }
         int missing = 0;
