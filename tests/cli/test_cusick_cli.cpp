@@ -54,7 +54,14 @@ TEST_F(CusickCli, HelpAndBadOptions)
           Bad{"cusick cotton --clamp glue", "command line: --clamp:"},
           Bad{"cusick cotton --clamp discs --clamp-margin 1", "command line: --clamp-margin:"},
           Bad{"cusick cotton --clamp-margin 3", "command line: --clamp-margin:"},
-          Bad{"cusick nosuchfabric", "nosuchfabric"}, Bad{"cusick cotton --spacing-cm abc", "command line: --spacing-cm:"}}) {
+          Bad{"cusick nosuchfabric", "nosuchfabric"}, Bad{"cusick cotton --spacing-cm abc", "command line: --spacing-cm:"},
+          Bad{"cusick cotton --solver newton", "command line: --solver:"},
+          Bad{"cusick cotton --discretization fine", "command line: --discretization:"},
+          Bad{"cusick cotton --thread-compression 1.5", "command line: --thread-compression:"},
+          Bad{"cusick cotton --discretization paper --thread-compression 0", "command line: --thread-compression: expected only with the convergent"},
+          Bad{"cusick cotton --solver paper --fall-s 1", "command line: --fall-s: expected only with the fast solver"},
+          Bad{"cusick cotton --fall-s -1", "command line: --fall-s:"},
+          Bad{"cusick cotton --grid-rotation-deg 400", "command line: --grid-rotation-deg:"}}) {
         SCOPED_TRACE(b.args);
         const Ran r = woven(std::string(b.args) + " --out o");
         EXPECT_EQ(r.code, 2);
@@ -83,6 +90,12 @@ TEST_F(CusickCli, ASmallSpecimenWritesEveryOutput)
     EXPECT_DOUBLE_EQ(j.at("pinned_radius_m").get<double>(), 0.03 + 0.005);
     EXPECT_EQ(j.at("sandwiched_particles").get<int>(), 0);
     EXPECT_DOUBLE_EQ(j.at("perturbation_m").get<double>(), 0.001);
+    // The path and the model, recorded with their defaults.
+    EXPECT_EQ(j.at("solver").get<std::string>(), "fast");
+    EXPECT_EQ(j.at("discretization").get<std::string>(), "convergent");
+    EXPECT_EQ(j.at("fall_duration_s").get<double>(), 0.0);
+    EXPECT_EQ(j.at("thread_compression").get<double>(), 1.0);
+    EXPECT_EQ(j.at("grid_rotation_deg").get<double>(), 0.0);
     ASSERT_EQ(j.at("runs").size(), 2u);
     for (const char* k : {"drape_coefficient_percent", "nodes", "node_angles_deg", "node_depths_m", "converged", "drape_coefficient_mean",
                           "drape_coefficient_std", "nodes_per_run", "runs_per_node_count"})
@@ -120,6 +133,22 @@ TEST_F(CusickCli, TheDiscsClampIsWrittenInTheReport)
     EXPECT_DOUBLE_EQ(j.at("pinned_radius_m").get<double>(), 0.03 - 0.015);  // r_d - 1.5 sigma
     EXPECT_GT(j.at("sandwiched_particles").get<int>(), 8);
     EXPECT_TRUE(j.at("converged").get<bool>());
+}
+
+// The path and the model's options reach the run and its report; the banner names them.
+TEST_F(CusickCli, ThePathAndTheThreadsAreWrittenInTheReport)
+{
+    const Ran r = woven("cusick silk --specimen-cm 12 --disc-cm 6 --spacing-cm 1 --thread-compression 0.25 --grid-rotation-deg 30 "
+                        "--fall-s 0.5 --no-render --threads 1 --out o");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("fall 0.5 s, thread compression 0.25, threads turned 30 deg"));
+    std::ifstream in(dir_ / "o" / "cusick.json");
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_EQ(j.at("thread_compression").get<double>(), 0.25);
+    EXPECT_EQ(j.at("grid_rotation_deg").get<double>(), 30.0);
+    EXPECT_EQ(j.at("fall_duration_s").get<double>(), 0.5);
+    EXPECT_TRUE(j.at("converged").get<bool>());
+    for (const auto& a : j.at("node_angles_deg")) EXPECT_LT(a.get<double>(), 360.0);
 }
 
 // Ctrl-C during a run (the command line's handler, installed as the runs begin): the run stops

@@ -37,6 +37,25 @@ TEST(HandValues, StretchAtOnePercent)
     EXPECT_EQ(t.repulsion(1.01 * kSigma).value, 0.0);
 }
 
+TEST(HandValues, ConvergentThreadInCompression)
+{
+    // E_t = 500 N/m, sigma = 2 cm, compression ratio 0.1: at 1 % shortening d = -2e-4 m the
+    // stiffness is 50 N/m: S = 50 * 4e-8 / 2 = 1e-6 J, S' = 50 * -2e-4 = -0.01 N; at 1 % extension
+    // the tensile 500 N/m: S = 1e-5 J, S' = 0.1 N.
+    const ThreadSpacing soft{1000.0, kSigma, 500.0, 0.1};
+    EXPECT_NEAR(soft.stretch(0.99 * kSigma).value, 1e-6, 1e-6 * 1e-9);
+    EXPECT_NEAR(soft.stretch(0.99 * kSigma).d1, -0.01, 0.01 * 1e-9);
+    EXPECT_NEAR(soft.stretch(0.99 * kSigma).d2, 50.0, 50.0 * 1e-12);
+    EXPECT_NEAR(soft.stretch(1.01 * kSigma).value, 1e-5, 1e-5 * 1e-9);
+    EXPECT_NEAR(soft.stretch(1.01 * kSigma).d1, 0.1, 0.1 * 1e-9);
+    // Ratio 0: the paper's Eq. (3), nothing below sigma; the default 1: the same spring both ways.
+    const ThreadSpacing buckling{1000.0, kSigma, 500.0, 0.0};
+    EXPECT_EQ(buckling.stretch(0.99 * kSigma).value, 0.0);
+    EXPECT_EQ(buckling.stretch(0.99 * kSigma).d1, 0.0);
+    const ThreadSpacing linear{1000.0, kSigma, 500.0};
+    EXPECT_NEAR(linear.stretch(0.99 * kSigma).value, 1e-5, 1e-5 * 1e-9);
+}
+
 TEST(HandValues, RepulsionAtHalfSigma)
 {
     // R(sigma/2) = C0 ((sigma - r)/sigma)^5 (sigma/r) = 1000 J * (1/2)^5 * 2 = 62.5 J.

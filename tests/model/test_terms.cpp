@@ -132,6 +132,19 @@ INSTANTIATE_TEST_SUITE_P(Radii, PairTerms,
                                          PairCase{0.999, 6}, PairCase{1.001, 7}, PairCase{1.01, 8}, PairCase{1.05, 9}, PairCase{1.2, 10},
                                          PairCase{1.5, 11}));
 
+// The convergent thread with a soft compression (ModelOptions::thread_compression): the stretch
+// term's derivatives on either side of the rest length, where the stiffness jumps.
+TEST(PairTerms, SoftCompressionMatchesFiniteDifferences)
+{
+    const model::ThreadSpacing spacing{cotton_C0(kSigma), kSigma, 500.0, 0.25};
+    for (const double r : {0.9, 0.995, 1.005, 1.1}) {
+        SCOPED_TRACE(r);
+        VecN<6> x;
+        x << Vec3::Zero(), r * kSigma * Vec3(0.6, 0.0, 0.8);
+        check_term(model::StretchTerm(spacing), placed<6>(x, 3), true, true);
+    }
+}
+
 TEST(PairTerms, SingularAndOutOfRange)
 {
     const model::ThreadSpacing spacing{cotton_C0(kSigma), kSigma};

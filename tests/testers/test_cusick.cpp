@@ -316,3 +316,31 @@ TEST(Cusick, StartNamesAndRunStatistics)
     EXPECT_DOUBLE_EQ(one.drape_coefficient_mean, 58.5);
     EXPECT_EQ(one.drape_coefficient_std, 0.0);
 }
+
+namespace woven::test {
+
+// The instrument is round: turning the threads about the disc's axis turns the whole problem, so
+// the drape is the same relative to the threads (nodes at the same angles from the warp, the
+// same DC and energy to round-off), unless a state is so close to another that round-off picks.
+TEST(Cusick, TurningTheThreadsTurnsTheDrape)
+{
+    SKIP_UNDER_SANITIZERS();
+    const kes::FabricData f = fabric(15, 0.1, 0.1, 1.0);
+    t::CusickOptions o = coarse(3);
+    o.spacing_m = 0.02;
+    const t::CusickResult straight = t::run_cusick(f, o);
+    o.grid_rotation_deg = 22.5;
+    const t::CusickResult turned = t::run_cusick(f, o);
+    EXPECT_NEAR(turned.shadow.drape_coefficient_percent, straight.shadow.drape_coefficient_percent, 0.05);
+    EXPECT_NEAR(turned.drape.energy.total(), straight.drape.energy.total(), 1e-7 * std::abs(straight.drape.energy.total()));
+    ASSERT_EQ(turned.shadow.nodes.count(), straight.shadow.nodes.count());
+    ASSERT_GE(straight.shadow.nodes.count(), 3);
+    for (int k = 0; k < straight.shadow.nodes.count(); ++k) EXPECT_NEAR(turned.shadow.nodes.angle_deg[k], straight.shadow.nodes.angle_deg[k], 0.5);
+    // The meshes are in the instrument's frame: the turned drape's last vertex is turned.
+    const Vec3 a = straight.surface.vertices.back(), b = turned.surface.vertices.back();
+    EXPECT_NEAR(std::remainder(std::atan2(b.y(), b.x()) - std::atan2(a.y(), a.x()), 2 * std::numbers::pi), 22.5 * std::numbers::pi / 180, 1e-3);
+    o.grid_rotation_deg = std::nan("");
+    EXPECT_THROW(t::make_cusick_setup(o), InputError);
+}
+
+}  // namespace woven::test

@@ -24,6 +24,7 @@
 #include "woven/io/fabric_file.hpp"
 #include "woven/io/output.hpp"
 #include "woven/io/output_set.hpp"
+#include "woven/io/scene_file.hpp"
 #include "woven/io/start_file.hpp"
 #include "woven/io/surface_file.hpp"
 #include "woven/io/toml_reader.hpp"
@@ -81,6 +82,18 @@ testers::CusickOptions cusick_options(const CusickRequest& r)
     if (r.protocol) co.protocol = *r.protocol;
     if (r.shakes) co.shakes = static_cast<int>(integer_in_range(*r.shakes, "--shakes", kCusickShakesRange[0], kCusickShakesRange[1]));
     if (r.bias) co.model.bias_bending = *r.bias;
+    if (r.solver) co.solver.kind = *r.solver;
+    if (r.discretization) co.model.discretization = *r.discretization;
+    if (r.fall_s) {
+        if (co.solver.kind != sim::SolverKind::FAST) throw InputError(kCommandLine, "--fall-s", "expected only with the fast solver");
+        co.solver.fast.fall_duration = number_in_range(*r.fall_s, "--fall-s", 0, io::kMaxFallDuration_s);
+    }
+    if (r.thread_compression) {
+        if (co.model.discretization != model::Discretization::CONVERGENT)
+            throw InputError(kCommandLine, "--thread-compression", "expected only with the convergent discretisation");
+        co.model.thread_compression = number_in_range(*r.thread_compression, "--thread-compression", kThreadCompressionRange[0], kThreadCompressionRange[1]);
+    }
+    if (r.grid_rotation_deg) co.grid_rotation_deg = number_in_range(*r.grid_rotation_deg, "--grid-rotation-deg", kCusickGridRotationRange[0], kCusickGridRotationRange[1]);
     if (!r.search && (r.modes || r.jobs)) throw InputError(kCommandLine, r.modes ? "--modes" : "--jobs", "expected only with --search");
     if (r.search && r.start) throw InputError(kCommandLine, "--start", "expected without --search (the search makes its own starts)");
     if (r.clamp) co.clamp = *r.clamp;
@@ -157,8 +170,13 @@ std::string cusick_banner(const std::string& name, const testers::CusickOptions&
     std::ostringstream s;
     s << "cusick " << name << ": specimen " << 2 * R * 100 << " cm on a " << 2 * rd * 100 << " cm disc, spacing " << co.spacing_m * 100
       << " cm (" << setup.cut.count << " particles), " << shear_law_text(co.model) << ", hysteresis " << model::to_string(co.model.hysteresis)
-      << ", protocol " << testers::protocol_name(co.protocol) << (co.shakes > 0 ? " and " + std::to_string(co.shakes) + " shakes" : std::string())
-      << ", " << runs << (runs == 1 ? " run" : " runs");
+      << ", protocol " << testers::protocol_name(co.protocol) << (co.shakes > 0 ? " and " + std::to_string(co.shakes) + " shakes" : std::string());
+    if (co.solver.kind != sim::SolverKind::FAST) s << ", solver " << sim::to_string(co.solver.kind);
+    if (co.model.discretization != model::Discretization::CONVERGENT) s << ", discretization " << model::to_string(co.model.discretization);
+    if (co.solver.fast.fall_duration > 0) s << ", fall " << co.solver.fast.fall_duration << " s";
+    if (co.model.thread_compression != 1) s << ", thread compression " << co.model.thread_compression;
+    if (co.grid_rotation_deg != 0) s << ", threads turned " << co.grid_rotation_deg << " deg";
+    s << ", " << runs << (runs == 1 ? " run" : " runs");
     return s.str();
 }
 
@@ -278,6 +296,11 @@ nlohmann::json cusick_report(const CusickRun& c, const testers::CusickSearchOpti
     if (co.protocol == testers::CusickProtocol::LOWERED) rep["lower_step_m"] = testers::lower_step_m(co);
     rep["shakes"] = co.shakes;
     rep["bias_bending"] = model::to_string(co.model.bias_bending);
+    rep["solver"] = sim::to_string(co.solver.kind);
+    rep["discretization"] = model::to_string(co.model.discretization);
+    if (co.solver.kind == sim::SolverKind::FAST) rep["fall_duration_s"] = co.solver.fast.fall_duration;
+    if (co.model.discretization == model::Discretization::CONVERGENT) rep["thread_compression"] = co.model.thread_compression;
+    rep["grid_rotation_deg"] = co.grid_rotation_deg;
     rep["start_sha256"] = start_sha256;  // empty: the flat start
     rep["search"] = {{"modes", search.modes}, {"stiffer", search.stiffer}, {"release", search.release},
                      {"rule", c.request.search ? "lowest energy" : "the release"}};

@@ -27,6 +27,8 @@ inline constexpr long long kCusickMaxStepsRange[2] = {0, 1000000};
 inline constexpr long long kCusickShakesRange[2] = {0, 100};
 inline constexpr long long kCusickJobsRange[2] = {1, 64};
 inline constexpr double kCusickClampMarginRange[2] = {-2, 2};  ///< spacings
+inline constexpr double kCusickGridRotationRange[2] = {-360, 360};  ///< --grid-rotation-deg
+inline constexpr double kThreadCompressionRange[2] = {0, 1};        ///< --thread-compression
 
 /// One run (one seed): what the command prints for it.
 struct CusickRunLine {
@@ -54,6 +56,11 @@ struct CusickRequest {
     std::optional<testers::CusickProtocol> protocol;  ///< default release
     std::optional<int> shakes;
     std::optional<model::BiasBending> bias;
+    std::optional<sim::SolverKind> solver;             ///< default fast
+    std::optional<model::Discretization> discretization;  ///< default convergent
+    std::optional<double> fall_s;                      ///< fast solver: FastSolverOptions::fall_duration (s)
+    std::optional<double> thread_compression;          ///< ModelOptions::thread_compression, [0, 1]
+    std::optional<double> grid_rotation_deg;           ///< CusickOptions::grid_rotation_deg
     std::optional<testers::CusickClamp> clamp;      ///< default pinned
     std::optional<double> clamp_margin;             ///< pinned clamp only, spacings
     std::optional<double> clamp_gap_mm;             ///< discs clamp only

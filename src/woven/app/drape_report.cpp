@@ -51,6 +51,7 @@ nlohmann::json model_json(const model::ClothModel& model, const model::ModelOpti
             {"gram_force", units::to_string(o.gram_force)},
             {"dyn_per_gram_force", units::dyn_per_gram_force(o.gram_force)},
             {"tensile_stiffness_N_m", convergent ? model.spacing().tensile : 0.0},
+            {"thread_compression", convergent ? model.spacing().compression_ratio : 0.0},
             {"C0_J", model.spacing().C0},
             {"gravity_m_s2", model.gravity()},
             {"sigma_m", model.sigma()}};

@@ -15,6 +15,7 @@
 #include "woven/cli/commands.hpp"
 #include "woven/cli/progress_display.hpp"
 #include "woven/common/error.hpp"
+#include "woven/io/scene_file.hpp"
 #include "woven/io/toml_reader.hpp"
 
 namespace woven::cli {
@@ -84,6 +85,13 @@ CusickRequest cusick_request(const CusickCommandOptions& o)
     if (o.protocol) r.protocol = parse_choice(*o.protocol, "--protocol", testers::kCusickProtocolNames);
     if (o.shakes) r.shakes = static_cast<int>(parse_integer(*o.shakes, "--shakes", kCusickShakesRange[0], kCusickShakesRange[1]));
     if (o.bias) r.bias = parse_bias_bending(*o.bias, "--bias");
+    if (o.solver) r.solver = parse_choice(*o.solver, "--solver", sim::kSolverKindNames);
+    if (o.discretization) r.discretization = parse_choice(*o.discretization, "--discretization", model::kDiscretizationNames);
+    if (o.fall_s) r.fall_s = parse_number(*o.fall_s, "--fall-s", 0, io::kMaxFallDuration_s);
+    if (o.thread_compression)
+        r.thread_compression = parse_number(*o.thread_compression, "--thread-compression", kThreadCompressionRange[0], kThreadCompressionRange[1]);
+    if (o.grid_rotation_deg)
+        r.grid_rotation_deg = parse_number(*o.grid_rotation_deg, "--grid-rotation-deg", kCusickGridRotationRange[0], kCusickGridRotationRange[1]);
     r.search = o.search;
     if (o.search && o.modes) r.modes = parse_modes(*o.modes);
     if (o.search && o.jobs) r.jobs = static_cast<int>(parse_integer(*o.jobs, "--jobs", kCusickJobsRange[0], kCusickJobsRange[1]));
@@ -167,6 +175,23 @@ void add_cusick_command(CLI::App& app, int& exit_code)
                     "0.5 g, in the clamp's frame), then to rest at g (default 0)")
         ->type_name(int_type(kCusickShakesRange));
     sub->add_option("--bias", o->bias, kBiasBendingHelp)->type_name(choice_type(model::kBiasBendingNames));
+    sub->add_option("--solver", o->solver, "fast (the default: implicit steps, projected Newton) or paper (the paper's three phases, Sec. 3)")
+        ->type_name(choice_type(sim::kSolverKindNames));
+    sub->add_option("--discretization", o->discretization,
+                    "convergent (the default) or paper (the paper's literal convention: full patches, the quintic stretch well)")
+        ->type_name(choice_type(model::kDiscretizationNames));
+    sub->add_option("--fall-s", o->fall_s,
+                    "Fast solver: hold the steps at their first size (1/60 s) for this much simulated time before they grow, s "
+                    "(default 0; docs/SOLVER.md, The fall)")
+        ->type_name(number_type(0, io::kMaxFallDuration_s));
+    sub->add_option("--thread-compression", o->thread_compression,
+                    "The thread's stiffness in compression over its tensile stiffness: 1 (the default) a linear spring both ways, "
+                    "0 the paper's Eq. (3), no resistance to shortening (convergent discretisation)")
+        ->type_name(number_type(kThreadCompressionRange[0], kThreadCompressionRange[1]));
+    sub->add_option("--grid-rotation-deg", o->grid_rotation_deg,
+                    "Turn the specimen's threads about the disc's axis by this angle, degrees counter-clockwise from above (node "
+                    "angles stay measured from the warp)")
+        ->type_name(number_type(kCusickGridRotationRange[0], kCusickGridRotationRange[1]));
     sub->add_option("--start", o->start, "Start from this cusick.obj (of the same specimen and spacing) instead of the flat start");
     sub->add_flag("--search", o->search,
                   "Search the rest states: the release, one start per guide count (--modes: the overhang first falls onto "

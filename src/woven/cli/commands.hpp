@@ -80,6 +80,11 @@ struct CusickCommandOptions {
     std::optional<std::string> protocol;    ///< release (default) or lowered
     std::optional<std::string> shakes;      ///< quasi-static shake cycles after the protocol (default 0)
     std::optional<std::string> bias;        ///< threads or fabric (model::BiasBending)
+    std::optional<std::string> solver;              ///< fast (default) or paper
+    std::optional<std::string> discretization;      ///< convergent (default) or paper
+    std::optional<std::string> fall_s;              ///< the fast solver's fall at its first step, s
+    std::optional<std::string> thread_compression;  ///< [0, 1]
+    std::optional<std::string> grid_rotation_deg;
     std::optional<std::string> start;       ///< a cusick.obj to start from
     bool search = false;                    ///< the search of rest states (testers::search_cusick)
     std::optional<std::string> modes;       ///< --search: the imposed modes, "2-12" or a list "2,4,6"

@@ -201,6 +201,7 @@ void parse_model(const TomlTable& t, model::ModelOptions& o)
     o.hysteresis = t.choice("hysteresis", o.hysteresis, model::kHysteresisNames);
     o.bias_bending = t.choice("bias_bending", o.bias_bending, model::kBiasBendingNames);
     o.tensile_stiffness = t.number("tensile_stiffness_N_m", Range{0, 1e9, false, "N/m"}, o.tensile_stiffness);
+    o.thread_compression = t.number("thread_compression", Range{0, 1, false, ""}, o.thread_compression);
     o.gram_force = t.choice("gram_force", units::GramForce::PAPER, units::kGramForceNames);
     o.gravity = t.number("gravity_m_s2", Range{0, 1000, true, "m/s^2"}, o.gravity);
     o.C0 = t.number("C0_J", Range{0, 1e3, false, "J"}, o.C0);

@@ -105,6 +105,7 @@ ClothModel::ClothModel(const kes::FittedFabric& fabric, const Grid& grid, const 
     spacing_ = ThreadSpacing{options.C0 > 0 ? options.C0 : choose_C0(W, g_C0, sigma, hang), sigma};
     if (options.discretization == Discretization::CONVERGENT)
         spacing_.tensile = options.tensile_stiffness > 0 ? options.tensile_stiffness : tensile_stiffness_from_emt(kDefaultEMT, options.gram_force);
+    spacing_.compression_ratio = std::clamp(options.thread_compression, 0.0, 1.0);
     warp_ = BendingEnergy(fabric.bending_warp, sigma, options.bending_form, options.gram_force);
     weft_ = BendingEnergy(fabric.bending_weft, sigma, options.bending_form, options.gram_force);
     trellis_ = TrellisEnergy(fabric.shear, sigma, options.gram_force, options.shear_scale);

@@ -74,6 +74,10 @@ struct ModelOptions {
     /// segment is E_t (r - sigma)^2 / 2 in tension and compression. <= 0: from the fabric's KES
     /// EMT (the secant stiffness 500 gf/cm / EMT), or kDefaultEMT where it gives none.
     double tensile_stiffness = 0;
+    /// CONVERGENT: the thread's stiffness in compression over tensile_stiffness, in [0, 1]. 1: a
+    /// linear spring both ways (the default); 0: the paper's Eq. (3), which resists no shortening
+    /// (a yarn buckles; the repulsion alone holds the particles apart).
+    double thread_compression = 1;
     units::GramForce gram_force = units::GramForce::PAPER;
     double gravity = units::kStandardGravity;  ///< m/s^2
     /// C0 of Eq. (2, 3) in J; <= 0: chosen by choose_C0 for a hanging length of half the

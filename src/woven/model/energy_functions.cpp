@@ -31,7 +31,8 @@ Scalar3 ThreadSpacing::stretch(double r) const
         // Within rounding of the rest length (a flat grid's neighbours are sigma apart only to
         // an ulp) no force: a cloth at rest is exactly at rest, as with the paper's well.
         const double d = std::abs(r - sigma) <= 1e-13 * sigma ? 0.0 : r - sigma;
-        return {0.5 * tensile * d * d, tensile * d, tensile};
+        const double k = d < 0 ? compression_ratio * tensile : tensile;
+        return {0.5 * k * d * d, k * d, k};
     }
     if (r <= sigma) return {};
     const double e = (r - sigma) / sigma;

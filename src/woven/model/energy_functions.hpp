@@ -31,6 +31,10 @@ struct ThreadSpacing {
     /// sigma stores E_t eps^2 / 2 per unit area, eps = (r - sigma)/sigma), E_t in N/m; the
     /// repulsion R keeps C0.
     double tensile = 0;
+    /// The convergent thread's stiffness in compression over its tensile one, in [0, 1]: 1 (the
+    /// default) a linear spring both ways; 0 the paper's Eq. (3), no resistance below sigma (a
+    /// yarn buckles), where only the repulsion R holds the particles apart.
+    double compression_ratio = 1;
 
     Scalar3 repulsion(double r) const;
     Scalar3 stretch(double r) const;

@@ -13,6 +13,8 @@
 #include <string>
 #include <thread>
 
+#include <Eigen/Geometry>
+
 #include "woven/common/error.hpp"
 #include "woven/geometry/primitives.hpp"
 
@@ -84,6 +86,8 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
         throw InputError(kSource, "lower_step_m", "expected 0 (automatic) or a plate step of at least the spacing and at most the overhang (" + num(R - rd) + " m)");
     if (o.shakes < 0 || o.shakes > 100 || !(o.shake_amplitude > 0 && o.shake_amplitude < 1))
         throw InputError(kSource, "shakes", "expected 0 to 100 shakes of an amplitude between 0 and 1 g");
+    if (!std::isfinite(o.grid_rotation_deg) || std::abs(o.grid_rotation_deg) > 360)
+        throw InputError(kSource, "grid_rotation_deg", "expected an angle between -360 and 360 degrees");
     if (!std::isfinite(o.clamp_margin) || std::abs(o.clamp_margin) > 2)
         throw InputError(kSource, "clamp_margin", "expected a margin between -2 and 2 spacings");
     const bool discs = o.clamp == CusickClamp::DISCS;
@@ -144,6 +148,10 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
             for (int k = 0; k < kPerturbationModes; ++k) wave += amplitude[k] * std::cos((k + 1) * theta + phase[k]);
             c.initial[p].z() += o.perturbation_m * std::clamp((r - rd) / (R - rd), 0.0, 1.0) * wave / amplitude_sum;
         }
+    if (o.grid_rotation_deg != 0) {
+        const Eigen::Rotation2Dd turn(o.grid_rotation_deg * std::numbers::pi / 180);
+        for (Vec3& x : c.initial) x.head<2>() = turn * Vec2(x.head<2>());
+    }
     return c;
 }
 
@@ -222,7 +230,13 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     r.spacing_m = setup.grid.sigma;
     r.specimen_area_m2 = setup.cut.total_area;
     r.particles = setup.cut.count;
-    r.shadow = analysis::measure_drape(r.surface, Vec2::Zero(), 0.5 * options.disc_diameter_m, 0.5 * options.specimen_diameter_m,
+    // The shadow read in the threads' frame: the surface turned back by the grid's rotation.
+    geometry::TriangleMesh measured = r.surface;
+    if (options.grid_rotation_deg != 0) {
+        const Eigen::Rotation2Dd back(-options.grid_rotation_deg * std::numbers::pi / 180);
+        for (Vec3& v : measured.vertices) v.head<2>() = back * Vec2(v.head<2>());
+    }
+    r.shadow = analysis::measure_drape(measured, Vec2::Zero(), 0.5 * options.disc_diameter_m, 0.5 * options.specimen_diameter_m,
                                        setup.cut.total_area, options.shadow);
     return r;
 }
@@ -234,7 +248,7 @@ void add_guide_rods(geometry::ObstacleSet& obstacles, const CusickOptions& optio
     const double r0 = rd + kGuideRodInset, length = (R - r0) / std::cos(slope);
     for (int k = 0; k < start.guides; ++k) {
         // Angles from the warp (+y) towards the weft (+x), as the shadow's nodes.
-        const double a = start.phase_rad + 2 * std::numbers::pi * k / start.guides;
+        const double a = start.phase_rad + 2 * std::numbers::pi * k / start.guides - options.grid_rotation_deg * std::numbers::pi / 180;
         const Vec2 radial(std::sin(a), std::cos(a));
         const Vec3 base(r0 * radial.x(), r0 * radial.y(), disc_top_z - kGuideRodDrop);
         const Vec3 axis(std::cos(slope) * radial.x(), std::cos(slope) * radial.y(), -std::sin(slope));

@@ -125,6 +125,11 @@ struct CusickOptions {
     /// at the edge), so a seed is the same start at every spacing; it replaces the solver's
     /// per-particle perturbation. 0: none (the solver's perturbation then applies).
     double perturbation_m = 0.001;
+    /// The specimen's threads turned about the disc's axis by this angle (degrees, counter-clockwise
+    /// seen from above): the whole start turned, the instrument being round. The nodes, r(theta)
+    /// and the guide rods' phases stay measured from the warp; the meshes and pictures are in the
+    /// instrument's frame.
+    double grid_rotation_deg = 0;
     CusickProtocol protocol = CusickProtocol::RELEASE;
     /// LOWERED: the plate's step (m), from the spacing to the overhang; 0: lower_step_m(options).
     double lower_step_m = 0;
