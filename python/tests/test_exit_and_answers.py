@@ -53,20 +53,3 @@ def test_a_numpy_mesh_beyond_the_row_limit_is_refused_before_it_is_converted():
     with pytest.raises(woven.InputError, match=r"Python obstacle: faces: expected at most 200000 rows"):
         woven.Obstacle({"type": "mesh", "vertices_m": np.zeros((3, 3)), "faces": np.zeros((2_000_000, 3), dtype=np.int32)})
     assert time.monotonic() - t < 2.0
-
-
-CUSICK_EXIT_SCRIPT = """
-import threading, woven
-threading.Thread(target=lambda: woven.cusick("cotton", spacing_cm=2, seeds=1, threads=1, render=False), daemon=True).start()
-"""
-
-
-def test_the_interpreter_exits_cleanly_when_a_daemon_thread_starts_cusick_as_it_exits(tmp_path):
-    # The main thread exits at once: the daemon thread is before, in or after its call's lock when
-    # the atexit hook and then finalization come (before the fix 17 of 20 such exits ended in
-    # SIGABRT "PyThreadState_Get: the function must be called with the GIL held" or SIGSEGV).
-    codes = []
-    for _ in range(12):
-        r = subprocess.run([sys.executable, "-c", CUSICK_EXIT_SCRIPT], cwd=tmp_path, capture_output=True, text=True, timeout=60)
-        codes.append((r.returncode, r.stderr[-300:]))
-    assert all(code == 0 for code, _ in codes), codes
