@@ -126,20 +126,12 @@ std::optional<std::string> option_text(py::handle v)
     return py::str(v).cast<std::string>();
 }
 
-std::string keyword_of(const std::string& option)
-{
-    std::string k = option.rfind("--", 0) == 0 ? option.substr(2) : option;
-    for (char& c : k)
-        if (c == '-') c = '_';
-    return k;
-}
-
 std::string python_message(const InputError& e)
 {
     if (e.source() != app::kCommandLine || e.field().rfind("--", 0) != 0) return e.what();
     const std::string prefix = e.source() + ": " + e.field() + ": ";
     const std::string what = e.what();
-    return keyword_of(e.field()) + ": " + (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+    return app::keyword_of(e.field()) + ": " + (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
 }
 
 namespace {
@@ -165,34 +157,55 @@ std::optional<double> python_number(py::handle v)
 
 }  // namespace
 
-// Typed values go to the range checks as they are (no text); a string is read as the command
-// reads its option's text.
-std::optional<long long> integer_arg(py::handle v, const std::string& option, long long lo, long long hi)
+// Typed values go to the checks as they are (no text); a string, or an int beyond 64 bits, is
+// read as the command reads its option's text.
+std::optional<app::Given<long long>> given_integer(py::handle v)
 {
     if (v.is_none()) return std::nullopt;
-    if (const auto i = python_integer(v)) return app::integer_in_range(*i, option, lo, hi);
-    return app::integer_from_text(*option_text(v), option, lo, hi);
+    if (const auto i = python_integer(v)) return *i;
+    return *option_text(v);
 }
 
-std::optional<std::uint64_t> seed_arg(py::handle v, const std::string& option)
+std::optional<app::Given<std::uint64_t>> given_seed(py::handle v)
 {
     if (v.is_none()) return std::nullopt;
     if (const auto i = python_integer(v); i && *i >= 0) return static_cast<std::uint64_t>(*i);
-    return app::seed_from_text(*option_text(v), option);
+    return *option_text(v);
 }
 
-std::optional<double> number_arg(py::handle v, const std::string& option, double lo, double hi)
+std::optional<app::Given<double>> given_number(py::handle v)
 {
     if (v.is_none()) return std::nullopt;
-    if (const auto x = python_number(v)) return app::number_in_range(*x, option, lo, hi);
-    return app::number_from_text(*option_text(v), option, lo, hi);
+    if (const auto x = python_number(v)) return *x;
+    return *option_text(v);
 }
 
-std::optional<double> positive_arg(py::handle v, const std::string& option, double hi)
+std::optional<long long> integer_arg(py::handle v, const app::ValueName& name, long long lo, long long hi)
 {
-    if (v.is_none()) return std::nullopt;
-    if (const auto x = python_number(v)) return app::positive_in_range(*x, option, hi);
-    return app::positive_from_text(*option_text(v), option, hi);
+    const auto g = given_integer(v);
+    if (!g) return std::nullopt;
+    return app::integer_value(*g, name, lo, hi);
+}
+
+std::optional<std::uint64_t> seed_arg(py::handle v, const app::ValueName& name)
+{
+    const auto g = given_seed(v);
+    if (!g) return std::nullopt;
+    return app::seed_value(*g, name);
+}
+
+std::optional<double> number_arg(py::handle v, const app::ValueName& name, double lo, double hi)
+{
+    const auto g = given_number(v);
+    if (!g) return std::nullopt;
+    return app::number_value(*g, name, lo, hi);
+}
+
+std::optional<double> positive_arg(py::handle v, const app::ValueName& name, double hi)
+{
+    const auto g = given_number(v);
+    if (!g) return std::nullopt;
+    return app::positive_value(*g, name, hi);
 }
 
 FabricArg fabric_arg(py::handle fabric)

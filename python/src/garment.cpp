@@ -21,7 +21,9 @@ py::object garment(py::object file, py::object fabric, py::object spacing_cm, py
     if (!path) throw InputError("garment", "file", "expected a garment .toml file");
     r.file = *path;
     r.fabric = option_text(fabric);
-    r.spacing_cm = number_arg(spacing_cm, "--spacing", io::kGarmentSpacingCm[0], io::kGarmentSpacingCm[1]);
+    // The command's option is --spacing; the keyword, spacing_cm, names the value here.
+    r.spacing_cm = number_arg(spacing_cm, app::value_name(app::Naming::KEYWORDS, "--spacing", "spacing_cm"), io::kGarmentSpacingCm[0],
+                              io::kGarmentSpacingCm[1]);
     if (const auto t = integer_arg(threads, "--threads", 0, io::kMaxThreads)) r.threads = static_cast<int>(*t);
     if (const auto m = integer_arg(max_steps, "--max-steps", 0, 1'000'000'000)) r.max_steps = static_cast<int>(*m);
     r.seed = seed_arg(seed, "--seed");
