@@ -313,7 +313,8 @@ InCallback::~InCallback() { --t_callback_depth; }
 
 namespace {
 
-/// A app::ProgressEvent as the dict a progress callable gets.
+/// A app::ProgressEvent as the dict a progress callable gets: a step's and an iteration's with
+/// woven.drape's keys (SolveCallbacks, drape.cpp), an activity's with its label and detail.
 py::dict event_dict(const app::ProgressEvent& e)
 {
     py::dict d;
@@ -322,18 +323,24 @@ py::dict event_dict(const app::ProgressEvent& e)
     if (kind == "activity") {
         d["label"] = e.label;
         d["detail"] = e.detail;
+        d["fraction"] = e.fraction;
+    } else if (kind == "step") {
+        d["step"] = e.step;
+        d["max_steps"] = e.max_steps;
+        d["time_s"] = e.time_s;
+        d["energy_J"] = e.energy_J;
+        d["residual"] = e.residual;
+        d["tolerance"] = e.tolerance;
+        d["move_m"] = e.move_m;
+        d["fraction"] = e.fraction;
     } else {
         d["step"] = e.step;
-        if (kind == "step") {
-            d["max_steps"] = e.max_steps;
-            d["energy_J"] = e.energy_J;
-        } else {
-            d["iteration"] = e.iteration;
-        }
+        d["iteration"] = e.iteration;
+        d["total_iterations"] = e.total_iterations;
+        d["time_step_s"] = e.time_step_s;
         d["residual"] = e.residual;
         d["tolerance"] = e.tolerance;
     }
-    d["fraction"] = e.fraction;
     d["wall_s"] = e.wall_s;
     return d;
 }
