@@ -103,6 +103,10 @@ void warn(const std::vector<std::string>& warnings);
 /// state. Taken with the GIL held; it waits without the GIL, and Ctrl-C while it waits raises
 /// KeyboardInterrupt. Nested on one thread it is held once. A woven call from a progress callback
 /// of a running call raises woven.Error (it would wait for itself).
+/// At interpreter exit the atexit hook (stop_calls_at_exit) waits for the call holding it, so a
+/// daemon thread may release and take back the GIL while it holds it, never after: a binding
+/// holds it for the whole call, its results converted to Python included (Python code run then
+/// can hand the GIL to the exiting main thread).
 class CallLock {
 public:
     CallLock();

@@ -223,7 +223,16 @@ FabricArg fabric_arg(py::handle fabric)
 
 namespace {
 
-std::atomic<bool> g_exiting{false};  ///< set by stop_calls_at_exit
+std::atomic<bool> g_exiting{false};     ///< set by stop_calls_at_exit as it starts
+std::atomic<bool> g_exit_passed{false};  ///< set as it returns: the interpreter may finalize from then on
+
+/// Waits for the process to end, touching nothing: for a thread without the GIL once taking it
+/// back is unsafe (Python 3.11 ends a thread that takes the GIL while finalizing with
+/// pthread_exit, whose unwinding through C++ frames aborts: "exception not rethrown").
+[[noreturn]] void park_until_exit()
+{
+    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+}
 
 }  // namespace
 
@@ -241,11 +250,10 @@ bool interpreter_finalizing() { return g_exiting.load() || python_finalizing(); 
 
 void wait_out_finalization()
 {
-    if (!python_finalizing()) return;  // at exit but not yet finalizing: return (and release the call) as usual
-    // Taking the GIL now would end this thread inside C++ (Python 3.11: pthread_exit, whose
-    // unwinding aborts at the first noexcept frame: "exception not rethrown"); the process is
-    // ending: wait for it, touching nothing.
-    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+    // At exit but with the atexit hook still waiting for this call: return (and release the
+    // call) as usual. Once the hook has passed (its 30 s were up) the interpreter may finalize
+    // at any moment: taking the GIL could end this thread inside C++.
+    if (g_exit_passed.load() || python_finalizing()) park_until_exit();
 }
 
 bool signal_seen()
@@ -277,10 +285,18 @@ CallLock::CallLock()
     if (t_call_depth++ > 0) return;
     try {
         for (;;) {
+            bool locked = false;
             {
                 py::gil_scoped_release release;
-                if (g_call_mutex.try_lock_for(std::chrono::milliseconds(50))) break;
+                locked = g_call_mutex.try_lock_for(std::chrono::milliseconds(50));
+                // The GIL is taken back (the release's end) only where the interpreter cannot
+                // finalize meanwhile: the atexit hook (stop_calls_at_exit) waits for the lock this
+                // thread holds, or has not started. Once it has passed, or started while another
+                // call holds the lock, a daemon thread here would be ended inside C++ (SIGABRT
+                // "exception not rethrown" at exit, issue 53): it waits for the process to end.
+                if (g_exit_passed.load() || (!locked && g_exiting.load())) park_until_exit();
             }
+            if (locked) break;
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         }
         // Once the interpreter's atexit callbacks run (stop_calls_at_exit, which holds the GIL
@@ -304,8 +320,11 @@ void stop_calls_at_exit()
 {
     g_exiting = true;
     if (t_call_depth > 0) return;  // this thread's own call (an atexit callback inside one): nothing to wait for
-    const py::gil_scoped_release release;
-    if (g_call_mutex.try_lock_for(std::chrono::seconds(30))) g_call_mutex.unlock();
+    {
+        const py::gil_scoped_release release;
+        if (g_call_mutex.try_lock_for(std::chrono::seconds(30))) g_call_mutex.unlock();
+    }
+    g_exit_passed = true;
 }
 
 InCallback::InCallback() { ++t_callback_depth; }

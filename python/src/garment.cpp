@@ -16,6 +16,7 @@ namespace fs = std::filesystem;
 py::object garment(py::object file, py::object fabric, py::object spacing_cm, py::object threads, py::object max_steps, py::object seed,
                    bool render, py::object out, py::object progress)
 {
+    const CallLock lock;  // the whole call (bindings.hpp, CallLock: safe at interpreter exit)
     app::GarmentRequest r;
     const std::optional<std::string> path = option_text(file);
     if (!path) throw InputError("garment", "file", "expected a garment .toml file");
