@@ -223,7 +223,7 @@ FabricArg fabric_arg(py::handle fabric)
 
 namespace {
 
-std::atomic<bool> g_exiting{false};     ///< set by stop_calls_at_exit as it starts
+std::atomic<bool> g_exiting{false};      ///< set by stop_calls_at_exit as it starts
 std::atomic<bool> g_exit_passed{false};  ///< set as it returns: the interpreter may finalize from then on
 
 /// Waits for the process to end, touching nothing: for a thread without the GIL once taking it

@@ -74,9 +74,12 @@ std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std:
     if (r.hysteresis) scene.model.hysteresis = *r.hysteresis;
     if (r.bias) scene.model.bias_bending = *r.bias;
     if (scene.model.hysteresis == model::Hysteresis::FRICTION && scene.solver.kind == sim::SolverKind::PAPER) {
-        const ValueName which = r.hysteresis ? name("--hysteresis") : r.solver ? name("--solver") : ValueName(scene.source_path, "model.hysteresis");
+        const ValueName which = r.hysteresis ? name("--hysteresis")
+            : r.solver                       ? name("--solver")
+                                             : ValueName(scene.source_path, "model.hysteresis");
         throw InputError(which.source, which.field,
-                         "expected loading-branch with the paper solver, or the fast solver with friction (friction inside the weave is the fast solver's)");
+                         "expected loading-branch with the paper solver, or the fast solver with friction (friction inside the weave is "
+                         "the fast solver's)");
     }
     // Threads and memory before anything large is built.
     d.threads = choose_threads(scene.solver.threads, warnings);

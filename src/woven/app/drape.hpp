@@ -53,15 +53,15 @@ inline constexpr long long kPictureSizeRange[2] = {1, 16384};       ///< --width
 /// A drape's options as a front end got them (drape_request checks and reads them); absent:
 /// the scene's.
 struct DrapeValues {
-    std::optional<Given<long long>> grid;        ///< particles along the cloth's longer side, kGridRange
-    std::optional<std::string> solver;           ///< sim::kSolverKindNames
+    std::optional<Given<long long>> grid;  ///< particles along the cloth's longer side, kGridRange
+    std::optional<std::string> solver;     ///< sim::kSolverKindNames
     std::optional<Given<std::uint64_t>> seed;
-    std::optional<Given<long long>> threads;     ///< 0: all cores available; at most io::kMaxThreads
-    std::optional<Given<long long>> max_steps;   ///< 0: the solver's default; kMaxStepsRange
-    std::optional<Given<double>> perturb_m;      ///< the fast solver's start perturbation, [0, io::kMaxPerturbation_m]
-    std::optional<std::string> hysteresis;       ///< model::kHysteresisNames
-    std::optional<std::string> bias;             ///< model::kBiasBendingNames
-    std::optional<std::string> start;            ///< a drape.obj path (the command's --start)
+    std::optional<Given<long long>> threads;    ///< 0: all cores available; at most io::kMaxThreads
+    std::optional<Given<long long>> max_steps;  ///< 0: the solver's default; kMaxStepsRange
+    std::optional<Given<double>> perturb_m;     ///< the fast solver's start perturbation, [0, io::kMaxPerturbation_m]
+    std::optional<std::string> hysteresis;      ///< model::kHysteresisNames
+    std::optional<std::string> bias;            ///< model::kBiasBendingNames
+    std::optional<std::string> start;           ///< a drape.obj path (the command's --start)
 };
 
 /// What to drape: a scene (by name or file, or given as a spec), its overrides, and a start.

@@ -25,7 +25,8 @@ long long integer_in_range(long long value, const ValueName& name, long long lo,
 {
     if (value < lo || value > hi)
         throw InputError(name.source, name.field,
-                         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + std::to_string(value) + "'");
+                         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + std::to_string(value)
+                             + "'");
     return value;
 }
 
@@ -48,7 +49,7 @@ long long integer_from_text(const std::string& text, const ValueName& name, long
     long long v = 0;
     const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
     if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < lo || v > hi)
-            throw InputError(name.source, name.field,
+        throw InputError(name.source, name.field,
                          "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + shown(text));
     return v;
 }
@@ -59,8 +60,8 @@ std::uint64_t seed_from_text(const std::string& text, const ValueName& name)
     const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
     if (r.ec != std::errc() || r.ptr != text.data() + text.size())
         throw InputError(name.source, name.field,
-                         "expected an integer in [0, " + std::to_string(std::numeric_limits<std::uint64_t>::max()) +
-                             "], got " + shown(text));
+                         "expected an integer in [0, " + std::to_string(std::numeric_limits<std::uint64_t>::max()) + "], got "
+                             + shown(text));
     return v;
 }
 

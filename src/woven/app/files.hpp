@@ -33,9 +33,9 @@ inline constexpr const char* kCommandLine = "command line";
 struct ValueName {
     std::string source = kCommandLine;
     std::string field;
-    ValueName(const char* option) : field(option) { }
-    ValueName(std::string option) : field(std::move(option)) { }
-    ValueName(std::string source_, std::string field_) : source(std::move(source_)), field(std::move(field_)) { }
+    ValueName(const char* option) : field(option) {}
+    ValueName(std::string option) : field(std::move(option)) {}
+    ValueName(std::string source_, std::string field_) : source(std::move(source_)), field(std::move(field_)) {}
 };
 
 /// How a front end's errors name a request's values: by the command's options or by the
@@ -66,8 +66,7 @@ double number_in_range(double value, const ValueName& name, double lo, double hi
 
 /// A request's value as a front end got it: typed (a Python int or float) or as text (a
 /// command-line option's, a Python str), read and checked once by the *_value functions.
-template <class T>
-using Given = std::variant<T, std::string>;
+template <class T> using Given = std::variant<T, std::string>;
 /// The value checked as integer_in_range (typed) or integer_from_text (text) check it; the same
 /// message either way.
 long long integer_value(const Given<long long>& value, const ValueName& name, long long lo, long long hi);
@@ -83,8 +82,7 @@ std::optional<std::string> path_given(const std::optional<std::filesystem::path>
 /// The value `text` names in an enum's table of names (common/choice.hpp); InputError
 /// "command line: <field>: expected a, b or c, got 'x'" otherwise.
 std::size_t choice_index(const std::string& text, const ValueName& name, std::span<const char* const> names);
-template <class E, std::size_t N>
-E named_choice(const std::string& text, const ValueName& name, const std::array<Named<E>, N>& table)
+template <class E, std::size_t N> E named_choice(const std::string& text, const ValueName& name, const std::array<Named<E>, N>& table)
 {
     const std::vector<const char*> names = names_of(table);
     return table[choice_index(text, name, std::span<const char* const>(names))].value;

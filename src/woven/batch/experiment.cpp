@@ -703,8 +703,8 @@ ExperimentResult run_figure1(const ExperimentRequest& o)
 
 std::string map_grid_expected()
 {
-    return "expected RxL: R ratios by L bending lengths, each an integer in [" + std::to_string(kMapGridRange[0]) + ", " +
-           std::to_string(kMapGridRange[1]) + "]";
+    return "expected RxL: R ratios by L bending lengths, each an integer in [" + std::to_string(kMapGridRange[0]) + ", "
+        + std::to_string(kMapGridRange[1]) + "]";
 }
 
 ExperimentResult experiment(const ExperimentRequest& request)

@@ -38,7 +38,7 @@ struct ExperimentRequest {
     int seeds = 5;                  ///< cube: seeds 1 .. seeds per fabric, kExperimentSeedsRange
     std::optional<int> grid;        ///< particles along the cloth's longer side, kExperimentGridRange (default: the scene's)
     int threads = 1;                ///< per drape (0: all cores)
-    int map_rows = 5, map_columns = 4;  ///< map: ratios by bending lengths, each in kMapGridRange
+    int map_rows = 5, map_columns = 4;           ///< map: ratios by bending lengths, each in kMapGridRange
     std::optional<std::filesystem::path> reuse;  ///< map: an earlier corner_map.json whose drapes to analyse again
     std::optional<std::filesystem::path> sweep;  ///< the sweep folder (default out/experiment-<which>)
     bool plan_only = false;         ///< write the plan (and the map's fabric files) and stop

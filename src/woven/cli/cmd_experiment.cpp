@@ -9,8 +9,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "woven/batch/experiment.hpp"
 #include "woven/app/progress.hpp"
+#include "woven/batch/experiment.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/progress_display.hpp"
@@ -102,7 +102,9 @@ void add_experiment_command(CLI::App& app, int& exit_code)
                 "(finished drapes stay in the sweep folder).");
     sub->add_option("EXPERIMENT", o->which, "The experiment")->required()->type_name(choice_type(kExperimentNames));
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
-    sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")->capture_default_str()->type_name(int_type(kExperimentSeedsRange));
+    sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")
+        ->capture_default_str()
+        ->type_name(int_type(kExperimentSeedsRange));
     sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (default: the scene's)")
         ->type_name(int_type(kExperimentGridRange));
     sub->add_option("--threads", o->threads, "Worker threads per drape (0: all cores)")

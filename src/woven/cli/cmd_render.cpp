@@ -50,8 +50,8 @@ std::pair<int, int> parse_size(const std::string& s)
     const auto in_range = [](int v) { return v >= kPictureSizeRange[0] && v <= kPictureSizeRange[1]; };
     if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || !in_range(w) || !in_range(h))
         throw InputError(kCommandLine, "--size",
-                         "expected WxH, each an integer in [" + std::to_string(kPictureSizeRange[0]) + ", " +
-                             std::to_string(kPictureSizeRange[1]) + "] (e.g. 1024x768), got '" + printable(s, 40) + "'");
+                         "expected WxH, each an integer in [" + std::to_string(kPictureSizeRange[0]) + ", "
+                             + std::to_string(kPictureSizeRange[1]) + "] (e.g. 1024x768), got '" + printable(s, 40) + "'");
     return {w, h};
 }
 

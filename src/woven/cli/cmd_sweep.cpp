@@ -100,7 +100,9 @@ void add_sweep_command(CLI::App& app, int& exit_code)
                 "interrupted.");
     sub->add_option("PLAN", o->plan, "The plan, a .toml file")->required();
     sub->add_option("--out", o->out, "The sweep folder (default out/sweep-<plan name>)");
-    sub->add_option("--jobs", o->jobs, "Points run at once on this machine (the cores are divided between them)")->capture_default_str()->type_name(int_type(kJobsRange));
+    sub->add_option("--jobs", o->jobs, "Points run at once on this machine (the cores are divided between them)")
+        ->capture_default_str()
+        ->type_name(int_type(kJobsRange));
     sub->add_option("--shard", o->shard, "Run shard I of N (0 <= I < N): the points whose index modulo N is I")->type_name("I/N");
     sub->add_flag("--merge", o->merge, "Only merge the finished points into sweep.csv and sweep.json");
     sub->add_flag("--list", o->list, "List the points and their command lines, run nothing");
