@@ -429,8 +429,9 @@ the cloth is kept out of obstacles, not pushed out of them.)")
 scene: a built-in scene name, a scene .toml path or a woven.Scene. fabric: a built-in name, a
 fabric .toml path or a woven.Fabric (default: the scene's). grid, solver ("fast" or "paper"),
 seed, threads (0: all cores), max_steps (0: the solver's default), perturb (m) and hysteresis
-("loading-branch" or "friction") and bias ("threads" or "fabric": bias bending) are the command's options, checked as it checks them: a bad value raises woven.InputError with its
-message ("command line: --grid: ..."). progress, if given, is called with a dict after each step
+("loading-branch" or "friction") and bias ("threads" or "fabric": bias bending) are the
+command's options, checked by the command's own request builder: a bad value raises
+woven.InputError naming the keyword ("grid: expected an integer in [3, 100000], got '2'"). progress, if given, is called with a dict after each step
 (event "step": step, max_steps, time_s, energy_J, residual and tolerance in units of m g,
 move_m, wall_s, fraction of the way to the tolerance) and before each Newton iteration (event
 "iteration": step, iteration, total_iterations, time_step_s, residual, tolerance, wall_s); if it
