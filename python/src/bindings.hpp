@@ -143,6 +143,10 @@ bool interpreter_finalizing();
 /// thread to stop, and waits for it (at most 30 s, the GIL released), so that no solve still
 /// runs while the process exits (issue 53: "pure virtual method called", SIGSEGV, SIGABRT).
 void stop_calls_at_exit();
+/// Runs `f` with the GIL released, for short work outside a woven call (reading a fabric or a
+/// scene): the atexit hook waits for it as for a call, so the GIL is taken back before the
+/// interpreter can finalize; once the hook has started, `f` runs with the GIL held.
+void without_gil(const std::function<void()>& f);
 /// On a thread without the GIL, before it takes it back: when the interpreter is shutting down,
 /// waits for the process to end instead of returning (issue 53: SIGABRT at exit).
 void wait_out_finalization();

@@ -225,6 +225,7 @@ namespace {
 
 std::atomic<bool> g_exiting{false};      ///< set by stop_calls_at_exit as it starts
 std::atomic<bool> g_exit_passed{false};  ///< set as it returns: the interpreter may finalize from then on
+std::atomic<int> g_released{0};          ///< threads in without_gil
 
 /// Waits for the process to end, touching nothing: for a thread without the GIL once taking it
 /// back is unsafe (Python 3.11 ends a thread that takes the GIL while finalizing with
@@ -322,9 +323,32 @@ void stop_calls_at_exit()
     if (t_call_depth > 0) return;  // this thread's own call (an atexit callback inside one): nothing to wait for
     {
         const py::gil_scoped_release release;
-        if (g_call_mutex.try_lock_for(std::chrono::seconds(30))) g_call_mutex.unlock();
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        if (g_call_mutex.try_lock_until(deadline)) g_call_mutex.unlock();
+        while (g_released.load() > 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     g_exit_passed = true;
+}
+
+void without_gil(const std::function<void()>& f)
+{
+    if (g_exiting.load()) {  // the atexit hook has started (both hold the GIL): keep it
+        f();
+        return;
+    }
+    ++g_released;  // the hook now waits for this thread to take the GIL back
+    std::exception_ptr failure;
+    {
+        py::gil_scoped_release release;
+        try {
+            f();
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        if (g_exit_passed.load()) park_until_exit();  // the hook's 30 s were up
+    }
+    --g_released;
+    if (failure) std::rethrow_exception(failure);
 }
 
 InCallback::InCallback() { ++t_callback_depth; }

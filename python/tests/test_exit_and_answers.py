@@ -88,18 +88,22 @@ def test_a_falsy_answer_to_a_cusick_iteration_stops_the_run(answer):
     assert calls.count("iteration") == 1 and "step" not in calls, calls[:10]
 
 
-CUSICK_EXIT_SCRIPT = """
-import threading, woven
-threading.Thread(target=lambda: woven.cusick("cotton", spacing_cm=2, seeds=1, threads=1, render=False), daemon=True).start()
-"""
+DAEMON_AT_EXIT = {
+    # The main thread exits at once, while the daemon thread is before, in or after its call.
+    "cusick": 'threading.Thread(target=lambda: woven.cusick("cotton", spacing_cm=2, seeds=1, threads=1, render=False), daemon=True).start()',
+    # Fabric and Scene readers release the GIL outside any call's lock.
+    "loads": "def run():\n    while True:\n        woven.Fabric.load('cotton'); woven.Scene.load('cube')\n"
+             "threading.Thread(target=run, daemon=True).start()\ntime.sleep(0.05)",
+}
 
 
-def test_the_interpreter_exits_cleanly_when_a_daemon_thread_starts_cusick_as_it_exits(tmp_path):
-    # The main thread exits at once: the daemon thread is before, in or after its call's lock as
-    # the atexit hook and then finalization come (before the fix 16 of 20 such exits ended in
-    # SIGABRT, "PyThreadState_Get: the function must be called with the GIL held", or SIGSEGV).
+@pytest.mark.parametrize("what", sorted(DAEMON_AT_EXIT))
+def test_the_interpreter_exits_cleanly_when_a_daemon_thread_is_in_woven_as_it_exits(what, tmp_path):
+    # Before the fix: cusick 16 of 20 such exits ended in SIGABRT ("PyThreadState_Get: the
+    # function must be called with the GIL held") or SIGSEGV; the loads 18 of 20 in SIGABRT.
     outcomes = []
-    for _ in range(12):
-        r = subprocess.run([sys.executable, "-c", CUSICK_EXIT_SCRIPT], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    for _ in range(10):
+        r = subprocess.run([sys.executable, "-c", "import threading, time, woven\n" + DAEMON_AT_EXIT[what]], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=60)
         outcomes.append((r.returncode, r.stderr[-300:]))
     assert all(code == 0 for code, _ in outcomes), outcomes
