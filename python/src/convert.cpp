@@ -325,7 +325,8 @@ void stop_calls_at_exit()
         const py::gil_scoped_release release;
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
         if (g_call_mutex.try_lock_until(deadline)) g_call_mutex.unlock();
-        while (g_released.load() > 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        while (g_released.load() > 0 && std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     g_exit_passed = true;
 }
