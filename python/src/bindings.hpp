@@ -59,29 +59,33 @@ struct Scene {
 nlohmann::json to_values(py::handle value, const std::string& source);
 /// A JSON document (a report) as Python dicts, lists, str, int, float, bool and None.
 py::object to_python(const nlohmann::json& j);
-/// The text a command line would carry for an option's value: None -> nullopt, str as is,
-/// os.PathLike as its path, anything else as str(value) (repr for a float, which reads back).
 /// An InputError's message as Python shows it: a field named by a command-line option of the
 /// command line ("command line: --max-steps: ...") is named by its keyword ("max_steps: ...").
 std::string python_message(const InputError& e);
-/// The keyword of a command-line option: "--max-steps" -> "max_steps".
-std::string keyword_of(const std::string& option);
+/// The text a command line would carry for an option's value: None -> nullopt, str as is,
+/// os.PathLike as its path, anything else as str(value) (repr for a float, which reads back).
 std::optional<std::string> option_text(py::handle value);
-/// The typed value of an option given as a Python value (its text, as option_text): None ->
-/// nullopt; InputError "command line: <option>: expected ..." as the command's own for a value
-/// that is not one, or out of [lo, hi].
-std::optional<long long> integer_arg(py::handle value, const std::string& option, long long lo, long long hi);
-std::optional<std::uint64_t> seed_arg(py::handle value, const std::string& option);
-std::optional<double> number_arg(py::handle value, const std::string& option, double lo, double hi);
+/// An option's Python value for the request builders (app/files.hpp Given): None -> nullopt; an
+/// int (not a bool) within 64 bits, or a float for a number, as it is; anything else as its
+/// text (option_text), read as the command reads it.
+std::optional<app::Given<long long>> given_integer(py::handle value);
+std::optional<app::Given<std::uint64_t>> given_seed(py::handle value);  ///< an int >= 0 as it is
+std::optional<app::Given<double>> given_number(py::handle value);
+/// The typed value of an option given as a Python value (given_*), checked: None -> nullopt;
+/// InputError "command line: <option>: expected ..." as the command's own for a value that is
+/// not one, or out of [lo, hi].
+std::optional<long long> integer_arg(py::handle value, const app::ValueName& name, long long lo, long long hi);
+std::optional<std::uint64_t> seed_arg(py::handle value, const app::ValueName& name);
+std::optional<double> number_arg(py::handle value, const app::ValueName& name, double lo, double hi);
 /// A number in (0, hi] ("expected a number in (0, hi], got ...").
-std::optional<double> positive_arg(py::handle value, const std::string& option, double hi);
+std::optional<double> positive_arg(py::handle value, const app::ValueName& name, double hi);
 /// The enum value a Python str names in `table` (common/choice.hpp); None -> nullopt.
 template <class E, std::size_t N>
-std::optional<E> choice_arg(py::handle value, const std::string& option, const std::array<Named<E>, N>& table)
+std::optional<E> choice_arg(py::handle value, const app::ValueName& name, const std::array<Named<E>, N>& table)
 {
     const std::optional<std::string> text = option_text(value);
     if (!text) return std::nullopt;
-    return app::named_choice(*text, option, table);
+    return app::named_choice(*text, name, table);
 }
 /// A fabric argument: a name or path (str, os.PathLike) or a woven.Fabric.
 struct FabricArg {
@@ -99,6 +103,10 @@ void warn(const std::vector<std::string>& warnings);
 /// state. Taken with the GIL held; it waits without the GIL, and Ctrl-C while it waits raises
 /// KeyboardInterrupt. Nested on one thread it is held once. A woven call from a progress callback
 /// of a running call raises woven.Error (it would wait for itself).
+/// At interpreter exit the atexit hook (stop_calls_at_exit) waits for the call holding it, so a
+/// daemon thread may release and take back the GIL while it holds it, never after: a binding
+/// holds it for the whole call, its results converted to Python included (Python code run then
+/// can hand the GIL to the exiting main thread).
 class CallLock {
 public:
     CallLock();
@@ -135,6 +143,10 @@ bool interpreter_finalizing();
 /// thread to stop, and waits for it (at most 30 s, the GIL released), so that no solve still
 /// runs while the process exits (issue 53: "pure virtual method called", SIGSEGV, SIGABRT).
 void stop_calls_at_exit();
+/// Runs `f` with the GIL released, for short work outside a woven call (reading a fabric or a
+/// scene): the atexit hook waits for it as for a call, so the GIL is taken back before the
+/// interpreter can finalize; once the hook has started, `f` runs with the GIL held.
+void without_gil(const std::function<void()>& f);
 /// On a thread without the GIL, before it takes it back: when the interpreter is shutting down,
 /// waits for the process to end instead of returning (issue 53: SIGABRT at exit).
 void wait_out_finalization();

@@ -126,20 +126,12 @@ std::optional<std::string> option_text(py::handle v)
     return py::str(v).cast<std::string>();
 }
 
-std::string keyword_of(const std::string& option)
-{
-    std::string k = option.rfind("--", 0) == 0 ? option.substr(2) : option;
-    for (char& c : k)
-        if (c == '-') c = '_';
-    return k;
-}
-
 std::string python_message(const InputError& e)
 {
     if (e.source() != app::kCommandLine || e.field().rfind("--", 0) != 0) return e.what();
     const std::string prefix = e.source() + ": " + e.field() + ": ";
     const std::string what = e.what();
-    return keyword_of(e.field()) + ": " + (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+    return app::keyword_of(e.field()) + ": " + (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
 }
 
 namespace {
@@ -165,34 +157,55 @@ std::optional<double> python_number(py::handle v)
 
 }  // namespace
 
-// Typed values go to the range checks as they are (no text); a string is read as the command
-// reads its option's text.
-std::optional<long long> integer_arg(py::handle v, const std::string& option, long long lo, long long hi)
+// Typed values go to the checks as they are (no text); a string, or an int beyond 64 bits, is
+// read as the command reads its option's text.
+std::optional<app::Given<long long>> given_integer(py::handle v)
 {
     if (v.is_none()) return std::nullopt;
-    if (const auto i = python_integer(v)) return app::integer_in_range(*i, option, lo, hi);
-    return app::integer_from_text(*option_text(v), option, lo, hi);
+    if (const auto i = python_integer(v)) return *i;
+    return *option_text(v);
 }
 
-std::optional<std::uint64_t> seed_arg(py::handle v, const std::string& option)
+std::optional<app::Given<std::uint64_t>> given_seed(py::handle v)
 {
     if (v.is_none()) return std::nullopt;
     if (const auto i = python_integer(v); i && *i >= 0) return static_cast<std::uint64_t>(*i);
-    return app::seed_from_text(*option_text(v), option);
+    return *option_text(v);
 }
 
-std::optional<double> number_arg(py::handle v, const std::string& option, double lo, double hi)
+std::optional<app::Given<double>> given_number(py::handle v)
 {
     if (v.is_none()) return std::nullopt;
-    if (const auto x = python_number(v)) return app::number_in_range(*x, option, lo, hi);
-    return app::number_from_text(*option_text(v), option, lo, hi);
+    if (const auto x = python_number(v)) return *x;
+    return *option_text(v);
 }
 
-std::optional<double> positive_arg(py::handle v, const std::string& option, double hi)
+std::optional<long long> integer_arg(py::handle v, const app::ValueName& name, long long lo, long long hi)
 {
-    if (v.is_none()) return std::nullopt;
-    if (const auto x = python_number(v)) return app::positive_in_range(*x, option, hi);
-    return app::positive_from_text(*option_text(v), option, hi);
+    const auto g = given_integer(v);
+    if (!g) return std::nullopt;
+    return app::integer_value(*g, name, lo, hi);
+}
+
+std::optional<std::uint64_t> seed_arg(py::handle v, const app::ValueName& name)
+{
+    const auto g = given_seed(v);
+    if (!g) return std::nullopt;
+    return app::seed_value(*g, name);
+}
+
+std::optional<double> number_arg(py::handle v, const app::ValueName& name, double lo, double hi)
+{
+    const auto g = given_number(v);
+    if (!g) return std::nullopt;
+    return app::number_value(*g, name, lo, hi);
+}
+
+std::optional<double> positive_arg(py::handle v, const app::ValueName& name, double hi)
+{
+    const auto g = given_number(v);
+    if (!g) return std::nullopt;
+    return app::positive_value(*g, name, hi);
 }
 
 FabricArg fabric_arg(py::handle fabric)
@@ -210,7 +223,17 @@ FabricArg fabric_arg(py::handle fabric)
 
 namespace {
 
-std::atomic<bool> g_exiting{false};  ///< set by stop_calls_at_exit
+std::atomic<bool> g_exiting{false};      ///< set by stop_calls_at_exit as it starts
+std::atomic<bool> g_exit_passed{false};  ///< set as it returns: the interpreter may finalize from then on
+std::atomic<int> g_released{0};          ///< threads in without_gil
+
+/// Waits for the process to end, touching nothing: for a thread without the GIL once taking it
+/// back is unsafe (Python 3.11 ends a thread that takes the GIL while finalizing with
+/// pthread_exit, whose unwinding through C++ frames aborts: "exception not rethrown").
+[[noreturn]] void park_until_exit()
+{
+    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+}
 
 }  // namespace
 
@@ -228,11 +251,10 @@ bool interpreter_finalizing() { return g_exiting.load() || python_finalizing(); 
 
 void wait_out_finalization()
 {
-    if (!python_finalizing()) return;  // at exit but not yet finalizing: return (and release the call) as usual
-    // Taking the GIL now would end this thread inside C++ (Python 3.11: pthread_exit, whose
-    // unwinding aborts at the first noexcept frame: "exception not rethrown"); the process is
-    // ending: wait for it, touching nothing.
-    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+    // At exit but with the atexit hook still waiting for this call: return (and release the
+    // call) as usual. Once the hook has passed (its 30 s were up) the interpreter may finalize
+    // at any moment: taking the GIL could end this thread inside C++.
+    if (g_exit_passed.load() || python_finalizing()) park_until_exit();
 }
 
 bool signal_seen()
@@ -264,10 +286,18 @@ CallLock::CallLock()
     if (t_call_depth++ > 0) return;
     try {
         for (;;) {
+            bool locked = false;
             {
                 py::gil_scoped_release release;
-                if (g_call_mutex.try_lock_for(std::chrono::milliseconds(50))) break;
+                locked = g_call_mutex.try_lock_for(std::chrono::milliseconds(50));
+                // The GIL is taken back (the release's end) only where the interpreter cannot
+                // finalize meanwhile: the atexit hook (stop_calls_at_exit) waits for the lock this
+                // thread holds, or has not started. Once it has passed, or started while another
+                // call holds the lock, a daemon thread here would be ended inside C++ (SIGABRT
+                // "exception not rethrown" at exit, issue 53): it waits for the process to end.
+                if (g_exit_passed.load() || (!locked && g_exiting.load())) park_until_exit();
             }
+            if (locked) break;
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         }
         // Once the interpreter's atexit callbacks run (stop_calls_at_exit, which holds the GIL
@@ -291,8 +321,35 @@ void stop_calls_at_exit()
 {
     g_exiting = true;
     if (t_call_depth > 0) return;  // this thread's own call (an atexit callback inside one): nothing to wait for
-    const py::gil_scoped_release release;
-    if (g_call_mutex.try_lock_for(std::chrono::seconds(30))) g_call_mutex.unlock();
+    {
+        const py::gil_scoped_release release;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        if (g_call_mutex.try_lock_until(deadline)) g_call_mutex.unlock();
+        while (g_released.load() > 0 && std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    g_exit_passed = true;
+}
+
+void without_gil(const std::function<void()>& f)
+{
+    if (g_exiting.load()) {  // the atexit hook has started (both hold the GIL): keep it
+        f();
+        return;
+    }
+    ++g_released;  // the hook now waits for this thread to take the GIL back
+    std::exception_ptr failure;
+    {
+        py::gil_scoped_release release;
+        try {
+            f();
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        if (g_exit_passed.load()) park_until_exit();  // the hook's 30 s were up
+    }
+    --g_released;
+    if (failure) std::rethrow_exception(failure);
 }
 
 InCallback::InCallback() { ++t_callback_depth; }
@@ -300,7 +357,8 @@ InCallback::~InCallback() { --t_callback_depth; }
 
 namespace {
 
-/// A app::ProgressEvent as the dict a progress callable gets.
+/// A app::ProgressEvent as the dict a progress callable gets: a step's and an iteration's with
+/// woven.drape's keys (SolveCallbacks, drape.cpp), an activity's with its label and detail.
 py::dict event_dict(const app::ProgressEvent& e)
 {
     py::dict d;
@@ -309,18 +367,24 @@ py::dict event_dict(const app::ProgressEvent& e)
     if (kind == "activity") {
         d["label"] = e.label;
         d["detail"] = e.detail;
+        d["fraction"] = e.fraction;
+    } else if (kind == "step") {
+        d["step"] = e.step;
+        d["max_steps"] = e.max_steps;
+        d["time_s"] = e.time_s;
+        d["energy_J"] = e.energy_J;
+        d["residual"] = e.residual;
+        d["tolerance"] = e.tolerance;
+        d["move_m"] = e.move_m;
+        d["fraction"] = e.fraction;
     } else {
         d["step"] = e.step;
-        if (kind == "step") {
-            d["max_steps"] = e.max_steps;
-            d["energy_J"] = e.energy_J;
-        } else {
-            d["iteration"] = e.iteration;
-        }
+        d["iteration"] = e.iteration;
+        d["total_iterations"] = e.total_iterations;
+        d["time_step_s"] = e.time_step_s;
         d["residual"] = e.residual;
         d["tolerance"] = e.tolerance;
     }
-    d["fraction"] = e.fraction;
     d["wall_s"] = e.wall_s;
     return d;
 }

@@ -55,10 +55,27 @@ std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric
                                              py::object bias = py::none(), py::object initial_positions = py::none(),
                                              const char* caller = "drape()")
 {
-    app::DrapeRequest in;
+    // The options, typed, to the command's request builder: each checked once, an error naming
+    // the keyword ("grid: expected ...").
+    app::DrapeValues values;
+    values.grid = given_integer(grid);
+    values.solver = option_text(solver);
+    values.seed = given_seed(seed);
+    values.threads = given_integer(threads);
+    values.max_steps = given_integer(max_steps);
+    values.perturb_m = given_number(perturb);
+    values.hysteresis = option_text(hysteresis);
+    values.bias = option_text(bias);
     std::vector<std::string> warnings;
     const Scene* given_scene = py::isinstance<Scene>(scene) ? &scene.cast<const Scene&>() : nullptr;
-    if (!given_scene) in.scene = option_text(scene).value_or("cube");
+    const std::string scene_name = given_scene ? std::string() : option_text(scene).value_or("cube");
+    std::optional<io::SceneSpec> spec;
+    run_command([&](const app::Monitor&) {  // the scene, then the options
+        spec = given_scene ? given_scene->build(&warnings) : io::find_scene(scene_name, &warnings);
+    });
+    app::DrapeRequest in = app::drape_request(values, app::Naming::KEYWORDS);
+    in.scene = scene_name;
+    in.scene_spec = std::move(spec);
     if (py::isinstance<Fabric>(fabric)) {
         const Fabric& f = fabric.cast<const Fabric&>();
         in.fabric_data = *f.data;
@@ -66,21 +83,6 @@ std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric
     } else {
         in.fabric = option_text(fabric);
     }
-    run_command([&](const app::Monitor&) {  // the command's order: the scene, then the options
-        if (given_scene) in.scene_spec = given_scene->build(&warnings);
-        else in.scene_spec = io::find_scene(in.scene, &warnings);
-    });
-    if (const auto g = integer_arg(grid, "--grid", app::kGridRange[0], app::kGridRange[1])) in.grid = static_cast<int>(*g);
-    if (const auto k = option_text(solver)) {
-        in.solver = sim::solver_kind_from_string(*k);
-        if (!in.solver) throw InputError(app::kCommandLine, "--solver", "expected fast or paper");
-    }
-    in.seed = seed_arg(seed, "--seed");
-    if (const auto m = integer_arg(max_steps, "--max-steps", app::kMaxStepsRange[0], app::kMaxStepsRange[1])) in.max_steps = static_cast<int>(*m);
-    if (const auto t = integer_arg(threads, "--threads", 0, io::kMaxThreads)) in.threads = static_cast<int>(*t);
-    in.perturb_m = number_arg(perturb, "--perturb", 0, io::kMaxPerturbation_m);
-    in.hysteresis = choice_arg(hysteresis, "--hysteresis", model::kHysteresisNames);
-    in.bias = choice_arg(bias, "--bias", model::kBiasBendingNames);
     if (!initial_positions.is_none()) {  // an (n, 3) array of positions in m
         const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(initial_positions);
         if (!a || a.ndim() != 2 || a.shape(1) != 3)
@@ -427,8 +429,9 @@ the cloth is kept out of obstacles, not pushed out of them.)")
 scene: a built-in scene name, a scene .toml path or a woven.Scene. fabric: a built-in name, a
 fabric .toml path or a woven.Fabric (default: the scene's). grid, solver ("fast" or "paper"),
 seed, threads (0: all cores), max_steps (0: the solver's default), perturb (m) and hysteresis
-("loading-branch" or "friction") and bias ("threads" or "fabric": bias bending) are the command's options, checked as it checks them: a bad value raises woven.InputError with its
-message ("command line: --grid: ..."). progress, if given, is called with a dict after each step
+("loading-branch" or "friction") and bias ("threads" or "fabric": bias bending) are the
+command's options, checked by the command's own request builder: a bad value raises
+woven.InputError naming the keyword ("grid: expected an integer in [3, 100000], got '2'"). progress, if given, is called with a dict after each step
 (event "step": step, max_steps, time_s, energy_J, residual and tolerance in units of m g,
 move_m, wall_s, fraction of the way to the tolerance) and before each Newton iteration (event
 "iteration": step, iteration, total_iterations, time_step_s, residual, tolerance, wall_s); if it

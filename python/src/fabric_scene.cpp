@@ -35,10 +35,7 @@ Fabric fabric_from_python(const py::args& args, const py::kwargs& kwargs)
     const nlohmann::json values = to_values(merged_values(args, kwargs, "Fabric"), kPythonFabric);
     std::vector<std::string> warnings;
     Fabric f;
-    {
-        py::gil_scoped_release release;
-        f.data = std::make_shared<const kes::FabricData>(io::fabric_from_values(values, kPythonFabric, &warnings));
-    }
+    without_gil([&] { f.data = std::make_shared<const kes::FabricData>(io::fabric_from_values(values, kPythonFabric, &warnings)); });
     f.source = kPythonFabric;
     warn(warnings);
     return f;
@@ -49,10 +46,7 @@ Fabric load_fabric(py::handle name_or_path)
     const std::string name = option_text(name_or_path).value_or("");
     std::vector<std::string> warnings;
     Fabric f;
-    {
-        py::gil_scoped_release release;
-        f.data = std::make_shared<const kes::FabricData>(io::find_fabric(name, &warnings));
-    }
+    without_gil([&] { f.data = std::make_shared<const kes::FabricData>(io::find_fabric(name, &warnings)); });
     f.source = app::fabric_source(name);
     warn(warnings);
     return f;
@@ -64,10 +58,7 @@ Scene scene_from_python(const py::args& args, const py::kwargs& kwargs)
     s.values = to_values(merged_values(args, kwargs, "Scene"), kPythonScene);
     s.base_dir = py::module_::import("os").attr("getcwd")().cast<std::string>();
     std::vector<std::string> warnings;
-    {
-        py::gil_scoped_release release;
-        s.spec = std::make_shared<const io::SceneSpec>(s.build(&warnings));
-    }
+    without_gil([&] { s.spec = std::make_shared<const io::SceneSpec>(s.build(&warnings)); });
     warn(warnings);
     return s;
 }
@@ -77,10 +68,7 @@ Scene load_scene(py::handle name_or_path)
     Scene s;
     s.name_or_path = option_text(name_or_path).value_or("");
     std::vector<std::string> warnings;
-    {
-        py::gil_scoped_release release;
-        s.spec = std::make_shared<const io::SceneSpec>(s.build(&warnings));
-    }
+    without_gil([&] { s.spec = std::make_shared<const io::SceneSpec>(s.build(&warnings)); });
     warn(warnings);
     return s;
 }

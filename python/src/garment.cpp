@@ -16,12 +16,15 @@ namespace fs = std::filesystem;
 py::object garment(py::object file, py::object fabric, py::object spacing_cm, py::object threads, py::object max_steps, py::object seed,
                    bool render, py::object out, py::object progress)
 {
+    const CallLock lock;  // the whole call (bindings.hpp, CallLock: safe at interpreter exit)
     app::GarmentRequest r;
     const std::optional<std::string> path = option_text(file);
     if (!path) throw InputError("garment", "file", "expected a garment .toml file");
     r.file = *path;
     r.fabric = option_text(fabric);
-    r.spacing_cm = number_arg(spacing_cm, "--spacing", io::kGarmentSpacingCm[0], io::kGarmentSpacingCm[1]);
+    // The command's option is --spacing; the keyword, spacing_cm, names the value here.
+    r.spacing_cm = number_arg(spacing_cm, app::value_name(app::Naming::KEYWORDS, "--spacing", "spacing_cm"), io::kGarmentSpacingCm[0],
+                              io::kGarmentSpacingCm[1]);
     if (const auto t = integer_arg(threads, "--threads", 0, io::kMaxThreads)) r.threads = static_cast<int>(*t);
     if (const auto m = integer_arg(max_steps, "--max-steps", 0, 1'000'000'000)) r.max_steps = static_cast<int>(*m);
     r.seed = seed_arg(seed, "--seed");

@@ -101,6 +101,7 @@ py::object kes_test(py::object fabric, py::object test, py::object direction, py
                     py::object bending_form, py::object discretization, py::object shear_law, py::object hysteresis, bool convergence,
                     py::object threads, py::object out, py::object progress)
 {
+    const CallLock lock;  // the whole call, its arrays made after the job included (bindings.hpp, CallLock: safe at interpreter exit)
     app::KesTestRequest r;
     const FabricArg f = fabric_arg(fabric);
     r.fabric = f.name;
@@ -141,6 +142,7 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
                   py::object shakes, bool render, py::object out, py::object progress, py::object bias, py::object clamp,
                   py::object clamp_margin, py::object clamp_gap_mm, py::object start, bool search, py::object modes, py::object jobs)
 {
+    const CallLock lock;  // the whole call, its arrays made after the job included (bindings.hpp, CallLock: safe at interpreter exit)
     app::CusickRequest r;
     const FabricArg f = fabric_arg(fabric);
     r.fabric = f.name;
@@ -204,6 +206,7 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
 
 py::object fit(py::object fabric, py::object sigma_cm, py::object out)
 {
+    const CallLock lock;  // the whole call (bindings.hpp, CallLock: safe at interpreter exit)
     app::FitRequest request;
     const FabricArg f = fabric_arg(fabric);
     request.fabric = f.name;

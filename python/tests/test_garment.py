@@ -26,3 +26,13 @@ def test_bad_values_and_missing_files_are_input_errors(tmp_path):
         woven.garment(TUBE, spacing_cm=-1, out=str(tmp_path))
     with pytest.raises(woven.InputError, match="no such garment file"):
         woven.garment(str(tmp_path / "nope.toml"), out=str(tmp_path))
+
+
+def test_a_bad_spacing_is_named_by_its_keyword(tmp_path):
+    # The command's option is --spacing; Python's keyword is spacing_cm, and the error says so.
+    with pytest.raises(woven.InputError) as e:
+        woven.garment(TUBE, spacing_cm=-1, out=str(tmp_path))
+    assert str(e.value) == "spacing_cm: expected a number in [0.2, 10], got '-1'"
+    with pytest.raises(woven.InputError) as e:
+        woven.garment(TUBE, spacing_cm="wide", out=str(tmp_path))
+    assert str(e.value) == "spacing_cm: expected a number in [0.2, 10], got 'wide'"

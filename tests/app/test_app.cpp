@@ -102,9 +102,9 @@ std::string input_error(F f)
 TEST(AppRequests, ValuesOutOfRangeGetTheCommandLinesOneLineError)
 {
     std::vector<std::string> warnings;
-    app::DrapeRequest drape;
-    drape.grid = 2;
-    EXPECT_EQ(input_error([&] { app::prepare_drape(std::move(drape), warnings); }),
+    app::DrapeValues drape;
+    drape.grid = std::string("2");
+    EXPECT_EQ(input_error([&] { app::drape_request(drape, app::Naming::OPTIONS); }),
               "command line: --grid: expected an integer in [3, 100000], got '2'");
     app::KesTestRequest kes;
     kes.fabric = "cotton";
@@ -129,6 +129,78 @@ TEST(AppRequests, ValuesOutOfRangeGetTheCommandLinesOneLineError)
     fit.fabric = "cotton";
     fit.out = "";
     EXPECT_EQ(input_error([&] { app::fit(fit); }), "command line: --out: expected a directory path, got an empty string");
+}
+
+TEST(AppRequests, OneBuilderChecksADrapesValuesOnceAndNamesThemAsTheFrontEndDoes)
+{
+    // A value as text (the command line, a Python str) or typed (a Python int or float): the same
+    // check, the same message, naming the option or the keyword.
+    const auto error = [](const app::DrapeValues& v, app::Naming naming) { return input_error([&] { app::drape_request(v, naming); }); };
+    for (const app::Given<long long>& grid : {app::Given<long long>(2LL), app::Given<long long>(std::string("2"))}) {
+        app::DrapeValues v;
+        v.grid = grid;
+        EXPECT_EQ(error(v, app::Naming::OPTIONS), "command line: --grid: expected an integer in [3, 100000], got '2'");
+        EXPECT_EQ(error(v, app::Naming::KEYWORDS), "grid: expected an integer in [3, 100000], got '2'");
+    }
+    app::DrapeValues v;
+    v.max_steps = std::string("-5");
+    EXPECT_EQ(error(v, app::Naming::KEYWORDS), "max_steps: expected an integer in [0, 1000000000], got '-5'");
+    v = {};
+    v.perturb_m = 0.5;
+    EXPECT_EQ(error(v, app::Naming::KEYWORDS), "perturb: expected a number in [0, 0.01], got '0.5'");
+    EXPECT_EQ(error(v, app::Naming::OPTIONS), "command line: --perturb: expected a number in [0, 0.01], got '0.5'");
+    v = {};
+    v.solver = "newton";
+    EXPECT_EQ(error(v, app::Naming::OPTIONS), "command line: --solver: expected fast or paper, got 'newton'");
+    v = {};
+    v.seed = std::string("-1");
+    EXPECT_EQ(error(v, app::Naming::KEYWORDS), "seed: expected an integer in [0, 18446744073709551615], got '-1'");
+    v = {};
+    v.threads = 4097LL;
+    EXPECT_EQ(error(v, app::Naming::KEYWORDS), "threads: expected an integer in [0, 4096], got '4097'");
+    v = {};
+    v.bias = "twist";
+    EXPECT_EQ(error(v, app::Naming::KEYWORDS), "bias: expected threads or fabric, got 'twist'");
+    v = {};
+    v.start = "";
+    EXPECT_EQ(error(v, app::Naming::OPTIONS), "command line: --start: expected a directory path, got an empty string");
+
+    // Good values read into the request, text and typed alike.
+    v = {};
+    v.grid = std::string("21");
+    v.solver = "paper";
+    v.seed = std::numeric_limits<std::uint64_t>::max();
+    v.threads = 2LL;
+    v.max_steps = std::string("7");
+    v.perturb_m = std::string("0.001");
+    v.hysteresis = "friction";
+    v.bias = "fabric";
+    app::DrapeRequest r = app::drape_request(v, app::Naming::KEYWORDS);
+    EXPECT_EQ(r.grid, 21);
+    EXPECT_EQ(r.solver, sim::SolverKind::PAPER);
+    EXPECT_EQ(r.seed, std::numeric_limits<std::uint64_t>::max());
+    EXPECT_EQ(r.threads, 2);
+    EXPECT_EQ(r.max_steps, 7);
+    EXPECT_EQ(r.perturb_m, 0.001);
+    EXPECT_EQ(r.hysteresis, model::Hysteresis::FRICTION);
+    EXPECT_EQ(r.bias, model::BiasBending::FABRIC);
+    EXPECT_FALSE(r.start);
+    EXPECT_EQ(r.naming, app::Naming::KEYWORDS);
+
+    // What prepare_drape finds later is named as the request says: friction with the paper
+    // solver, a grid too large for the scene's particle limit.
+    std::vector<std::string> warnings;
+    EXPECT_EQ(input_error([&] { app::prepare_drape(std::move(r), warnings); }),
+              "hysteresis: expected loading-branch with the paper solver, or the fast solver with friction (friction inside the weave is "
+              "the fast solver's)");
+    for (const app::Naming naming : {app::Naming::OPTIONS, app::Naming::KEYWORDS}) {
+        v = {};
+        v.grid = 100000LL;
+        const std::string message = input_error([&] { app::prepare_drape(app::drape_request(v, naming), warnings); });
+        EXPECT_EQ(message.substr(0, message.find(" particles")),
+                  std::string(naming == app::Naming::OPTIONS ? "command line: --grid" : "grid") + ": 100000 x 100000 = 10000000000")
+            << message;
+    }
 }
 
 TEST(AppDrape, ATypedRequestDrapesAndReportsTheSolversCounts)

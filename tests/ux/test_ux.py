@@ -177,6 +177,43 @@ def test_help_shows_each_number_and_choice_with_its_type_and_range(tmp_path, com
         assert err.startswith("woven: error: command line: " + option + ": expected"), err
 
 
+SWEEP_PLAN = 'name = "t"\ncommand = "cusick"\n[axes]\nfabric = ["cotton"]\n[options]\nspacing_cm = 3\nrender = false\n'
+
+BATCH_TYPED_HELP = [
+    # command, option, --help's type, a command line with a bad value, what its error says of the range
+    ("render", "--size", "WxH (INT in [1, 16384] each)", ["render", "d.obj", "--size", "0x10"],
+     "command line: --size: expected WxH, each an integer in [1, 16384] (e.g. 1024x768), got '0x10'"),
+    ("render", "--view", "{front,corner,side,top,scene}", ["render", "d.obj", "--view", "sideways"],
+     "command line: --view: expected front, corner, side, top or scene, got 'sideways'"),
+    ("sweep", "--jobs", "INT in [1, 4096]", ["sweep", "plan.toml", "--jobs", "0"],
+     "command line: --jobs: expected an integer in [1, 4096], got '0'"),
+    ("experiment", "EXPERIMENT", "{cube,map,figure1}", ["experiment", "chair", "--out", "e"],
+     "command line: EXPERIMENT: expected cube, map or figure1, got 'chair'"),
+    ("experiment", "--seeds", "INT in [1, 100]", ["experiment", "cube", "--seeds", "0", "--out", "e"],
+     "command line: --seeds: expected an integer in [1, 100], got '0'"),
+    ("experiment", "--grid", "INT in [3, 401]", ["experiment", "cube", "--grid", "2", "--out", "e"],
+     "command line: --grid: expected an integer in [3, 401], got '2'"),
+    ("experiment", "--threads", "INT in [0, 4096]", ["experiment", "cube", "--threads", "-1", "--out", "e"],
+     "command line: --threads: expected an integer in [0, 4096], got '-1'"),
+    ("experiment", "--jobs", "INT in [1, 4096]", ["experiment", "cube", "--jobs", "0", "--out", "e"],
+     "command line: --jobs: expected an integer in [1, 4096], got '0'"),
+    ("experiment", "--map-grid", "RxL (INT in [2, 9] each)", ["experiment", "map", "--map-grid", "1x4", "--out", "e"],
+     "command line: --map-grid: expected RxL: R ratios by L bending lengths, each an integer in [2, 9]"),
+]
+
+
+@pytest.mark.parametrize("command, option, shown, args, error", BATCH_TYPED_HELP, ids=[f"{c} {o}" for c, o, _, _, _ in BATCH_TYPED_HELP])
+def test_help_of_render_sweep_and_experiment_types_each_number_and_choice(tmp_path, command, option, shown, args, error):
+    code, out, err = woven(command, "--help")
+    assert code == 0, err
+    assert re.search(r"^\s+" + re.escape(option) + r" " + re.escape(shown) + r"(=\S+)?(\s|$)", out, re.M), out
+    # The same range in woven's own one-line error, exit 2, nothing written.
+    (tmp_path / "plan.toml").write_text(SWEEP_PLAN)
+    code, out, err = woven(*args, cwd=tmp_path)
+    assert (code, err) == (2, "woven: error: " + error + "\n")
+    assert sorted(os.listdir(tmp_path)) == ["plan.toml"]
+
+
 def test_ranges_are_worded_one_way(tmp_path):
     text = open(os.path.join(SOURCE_DIR, "fabrics", "cotton.toml")).read()
     for value, expected in [("0.1", "areal_density_mg_cm2: expected a number in [0.5, 500] mg/cm^2 (W), got 0.1"),

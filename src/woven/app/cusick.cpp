@@ -186,8 +186,9 @@ testers::CusickSearch run_seed(const kes::FabricData& fabric, const testers::Cus
 {
     const int max_steps = ck.solver.max_steps > 0 ? ck.solver.max_steps : sim::default_max_steps(ck.solver.kind);
     Progress progress(max_steps, ck.solver.residual_tolerance);
-    testers::CusickSearch found =
-        testers::run_cusick_seed(fabric, ck, search_states ? &search : nullptr, [&progress](const sim::StepInfo& s) { return progress(s); });
+    testers::CusickSearch found = testers::run_cusick_seed(
+        fabric, ck, search_states ? &search : nullptr, [&progress](const sim::StepInfo& s) { return progress(s); },
+        [&progress](const sim::IterationInfo& i) { return progress.iteration(i); });
     progress.finish();
     if (found.prediction < 0) throw RuntimeError("cusick: the search reached no rest state");
     return found;

@@ -34,34 +34,58 @@ render::Image render_drape(const Positions& x, const model::Grid& grid, const io
 
 }  // namespace
 
+DrapeRequest drape_request(const DrapeValues& v, Naming naming)
+{
+    const auto name = [naming](std::string_view option) { return value_name(naming, option); };
+    DrapeRequest r;
+    r.naming = naming;
+    if (v.grid) r.grid = static_cast<int>(integer_value(*v.grid, name("--grid"), kGridRange[0], kGridRange[1]));
+    if (v.solver) r.solver = named_choice(*v.solver, name("--solver"), sim::kSolverKindNames);
+    if (v.seed) r.seed = seed_value(*v.seed, name("--seed"));
+    if (v.max_steps) r.max_steps = static_cast<int>(integer_value(*v.max_steps, name("--max-steps"), kMaxStepsRange[0], kMaxStepsRange[1]));
+    if (v.threads) r.threads = static_cast<int>(integer_value(*v.threads, name("--threads"), 0, io::kMaxThreads));
+    if (v.perturb_m) r.perturb_m = number_value(*v.perturb_m, name("--perturb"), 0, io::kMaxPerturbation_m);
+    if (v.hysteresis) r.hysteresis = named_choice(*v.hysteresis, name("--hysteresis"), model::kHysteresisNames);
+    if (v.bias) r.bias = named_choice(*v.bias, name("--bias"), model::kBiasBendingNames);
+    if (v.start) r.start = path_given(*v.start, name("--start"));
+    return r;
+}
+
 std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std::string>& warnings)
 {
     const MonitorScope monitor(request.monitor);
     const DrapeRequest& r = request;
+    const auto name = [&r](std::string_view option) { return value_name(r.naming, option); };
     auto setup = std::make_unique<DrapeSetup>();
     DrapeSetup& d = *setup;
     d.scene = r.scene_spec ? std::move(*request.scene_spec) : io::find_scene(r.scene, &warnings);
     io::SceneSpec& scene = d.scene;
+    // The options' values come checked (drape_request); the scene checks the grid it makes.
     io::SceneOverrides ov;
-    if (r.grid) ov.grid = static_cast<int>(integer_in_range(*r.grid, "--grid", kGridRange[0], kGridRange[1]));
+    ov.grid = r.grid;
     ov.fabric = r.fabric;
     ov.solver = r.solver;
     ov.seed = r.seed;
-    if (r.max_steps) ov.max_steps = static_cast<int>(integer_in_range(*r.max_steps, "--max-steps", kMaxStepsRange[0], kMaxStepsRange[1]));
-    if (r.threads) ov.threads = static_cast<int>(integer_in_range(*r.threads, "--threads", 0, io::kMaxThreads));
-    io::apply_overrides(scene, ov, kCommandLine);
-    if (r.perturb_m) scene.solver.perturbation = number_in_range(*r.perturb_m, "--perturb", 0, io::kMaxPerturbation_m);
+    ov.max_steps = r.max_steps;
+    ov.threads = r.threads;
+    const ValueName grid_name = name("--grid");
+    io::apply_overrides(scene, ov, grid_name.source, grid_name.field);
+    if (r.perturb_m) scene.solver.perturbation = *r.perturb_m;
     if (r.hysteresis) scene.model.hysteresis = *r.hysteresis;
     if (r.bias) scene.model.bias_bending = *r.bias;
-    if (scene.model.hysteresis == model::Hysteresis::FRICTION && scene.solver.kind == sim::SolverKind::PAPER)
-        throw InputError(r.hysteresis || r.solver ? kCommandLine : scene.source_path,
-                         r.hysteresis ? "--hysteresis" : r.solver ? "--solver" : "model.hysteresis",
-                         "expected loading-branch with the paper solver, or the fast solver with friction (friction inside the weave is the fast solver's)");
+    if (scene.model.hysteresis == model::Hysteresis::FRICTION && scene.solver.kind == sim::SolverKind::PAPER) {
+        const ValueName which = r.hysteresis ? name("--hysteresis")
+            : r.solver                       ? name("--solver")
+                                             : ValueName(scene.source_path, "model.hysteresis");
+        throw InputError(which.source, which.field,
+                         "expected loading-branch with the paper solver, or the fast solver with friction (friction inside the weave is "
+                         "the fast solver's)");
+    }
     // Threads and memory before anything large is built.
     d.threads = choose_threads(scene.solver.threads, warnings);
     scene.solver.threads = d.threads.used;
-    check_memory(static_cast<long long>(scene.cloth.nu) * scene.cloth.nv, d.threads.used,
-                 r.grid ? kCommandLine : scene.source_path, r.grid ? "--grid" : "cloth.grid");
+    check_memory(static_cast<long long>(scene.cloth.nu) * scene.cloth.nv, d.threads.used, r.grid ? grid_name.source : scene.source_path,
+                 r.grid ? grid_name.field : "cloth.grid");
     std::string fabric_src;
     if (r.fabric_data) {
         d.fabric = std::move(*request.fabric_data);
@@ -92,7 +116,7 @@ std::unique_ptr<DrapeSetup> prepare_drape(DrapeRequest request, std::vector<std:
     // Checked as the flat start is: within the scene's bounds, outside every obstacle.
     const io::StartBounds bounds{&scene.obstacles, Vec3::Zero(), io::kMaxCoordinate_m};
     if (r.start) {
-        const std::string path = path_given(r.start->string(), "--start");
+        const std::string path = r.start->string();
         io::StartState read = io::load_start(path, d.grid, d.model->stencils().active, d.problem.initial);
         io::check_start_positions(read.x, d.model->stencils().active, scene.pinned_indices(), bounds, path, "v",
                                   [&](int p) { return "line " + std::to_string(read.line[static_cast<std::size_t>(p)]); });

@@ -50,9 +50,24 @@ inline constexpr long long kGridRange[2] = {3, 100000};            ///< --grid
 inline constexpr long long kMaxStepsRange[2] = {0, 1'000'000'000};  ///< --max-steps
 inline constexpr long long kPictureSizeRange[2] = {1, 16384};       ///< --width, --height, pixels
 
+/// A drape's options as a front end got them (drape_request checks and reads them); absent:
+/// the scene's.
+struct DrapeValues {
+    std::optional<Given<long long>> grid;  ///< particles along the cloth's longer side, kGridRange
+    std::optional<std::string> solver;     ///< sim::kSolverKindNames
+    std::optional<Given<std::uint64_t>> seed;
+    std::optional<Given<long long>> threads;    ///< 0: all cores available; at most io::kMaxThreads
+    std::optional<Given<long long>> max_steps;  ///< 0: the solver's default; kMaxStepsRange
+    std::optional<Given<double>> perturb_m;     ///< the fast solver's start perturbation, [0, io::kMaxPerturbation_m]
+    std::optional<std::string> hysteresis;      ///< model::kHysteresisNames
+    std::optional<std::string> bias;            ///< model::kBiasBendingNames
+    std::optional<std::string> start;           ///< a drape.obj path (the command's --start)
+};
+
 /// What to drape: a scene (by name or file, or given as a spec), its overrides, and a start.
-/// Absent overrides keep the scene's. Errors in a field name it by its command-line option
-/// ("command line: --grid: ..."), whichever front end filled it.
+/// Absent overrides keep the scene's. The overrides come checked from drape_request (prepare_drape
+/// does not check their ranges again); errors found later (a grid too large for the memory, a
+/// solver without the hysteresis asked for) name a field as `naming` says.
 struct DrapeRequest {
     std::string scene = "cube";                ///< a built-in scene name or a scene .toml file
     std::optional<io::SceneSpec> scene_spec;   ///< a scene given as an object (Python's woven.Scene) instead of `scene`
@@ -73,9 +88,17 @@ struct DrapeRequest {
     /// SHA-256 goes into report.json's start_sha256. Not with `start`.
     std::optional<Positions> initial;
     std::string initial_sha256;
+    /// How errors name the options: the command's (--grid) or Python's keywords (grid).
+    Naming naming = Naming::OPTIONS;
     /// Progress, interrupts and the display while the job runs (progress.hpp).
     Monitor monitor;
 };
+
+/// A request with `values` checked, each once, and read ("command line: --grid: expected an
+/// integer in [3, 100000], got '2'" or, with Naming::KEYWORDS, "grid: expected ..."); the front
+/// end then sets the scene, the fabric and the monitor. The command line and the Python module
+/// both build their requests here.
+DrapeRequest drape_request(const DrapeValues& values, Naming naming);
 
 /// Step 1 of a drape: the request's values checked, the scene and its overrides, threads and
 /// memory, the fabric, the model. Warnings are appended to `warnings` (the front end shows

@@ -21,11 +21,12 @@
 
 namespace woven::app {
 
-long long integer_in_range(long long value, const std::string& field, long long lo, long long hi)
+long long integer_in_range(long long value, const ValueName& name, long long lo, long long hi)
 {
     if (value < lo || value > hi)
-        throw InputError(kCommandLine, field,
-                         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + std::to_string(value) + "'");
+        throw InputError(name.source, name.field,
+                         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + std::to_string(value)
+                             + "'");
     return value;
 }
 
@@ -43,74 +44,74 @@ std::string shortest(double value)
 
 }  // namespace
 
-long long integer_from_text(const std::string& text, const std::string& field, long long lo, long long hi)
+long long integer_from_text(const std::string& text, const ValueName& name, long long lo, long long hi)
 {
     long long v = 0;
     const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
     if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < lo || v > hi)
-            throw InputError(kCommandLine, field,
+        throw InputError(name.source, name.field,
                          "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + shown(text));
     return v;
 }
 
-std::uint64_t seed_from_text(const std::string& text, const std::string& field)
+std::uint64_t seed_from_text(const std::string& text, const ValueName& name)
 {
     std::uint64_t v = 0;
     const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
     if (r.ec != std::errc() || r.ptr != text.data() + text.size())
-        throw InputError(kCommandLine, field,
-                         "expected an integer in [0, " + std::to_string(std::numeric_limits<std::uint64_t>::max()) +
-                             "], got " + shown(text));
+        throw InputError(name.source, name.field,
+                         "expected an integer in [0, " + std::to_string(std::numeric_limits<std::uint64_t>::max()) + "], got "
+                             + shown(text));
     return v;
 }
 
-double positive_from_text(const std::string& text, const std::string& field, double hi)
+double positive_from_text(const std::string& text, const ValueName& name, double hi)
 {
     double v = 0;
     const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
     if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v) || !(v > 0) || v > hi) {
         char h[32];
         std::snprintf(h, sizeof h, "%g", hi);
-        throw InputError(kCommandLine, field, "expected a number in (0, " + std::string(h) + "], got " + shown(text));
+        throw InputError(name.source, name.field, "expected a number in (0, " + std::string(h) + "], got " + shown(text));
     }
     return v;
 }
 
-double number_from_text(const std::string& text, const std::string& field, double lo, double hi)
+double number_from_text(const std::string& text, const ValueName& name, double lo, double hi)
 {
     double v = 0;
     const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
     if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v) || v < lo || v > hi) {
         char b[64];
         std::snprintf(b, sizeof b, "[%g, %g]", lo, hi);
-        throw InputError(kCommandLine, field, "expected a number in " + std::string(b) + ", got " + shown(text));
+        throw InputError(name.source, name.field, "expected a number in " + std::string(b) + ", got " + shown(text));
     }
     return v;
 }
 
-double positive_in_range(double value, const std::string& field, double hi)
+double positive_in_range(double value, const ValueName& name, double hi)
 {
     if (!std::isfinite(value) || !(value > 0) || value > hi) {
         char h[32];
         std::snprintf(h, sizeof h, "%g", hi);
-        throw InputError(kCommandLine, field, "expected a number in (0, " + std::string(h) + "], got '" + shortest(value) + "'");
+        throw InputError(name.source, name.field, "expected a number in (0, " + std::string(h) + "], got '" + shortest(value) + "'");
     }
     return value;
 }
 
-std::string path_given(const std::string& path, const std::string& field)
+std::string path_given(const std::string& path, const ValueName& name)
 {
-    if (path.empty()) throw InputError(kCommandLine, field, "expected a directory path, got an empty string");
+    if (path.empty()) throw InputError(name.source, name.field, "expected a directory path, got an empty string");
     return path;
 }
 
-std::optional<std::string> path_given(const std::optional<std::filesystem::path>& path, const std::string& field)
+std::optional<std::string> path_given(const std::optional<std::filesystem::path>& path, const ValueName& name)
 {
     if (!path) return std::nullopt;
-    return path_given(path->string(), field);
+    return path_given(path->string(), name);
 }
 
-std::size_t choice_index(const std::string& text, const std::string& field, std::span<const char* const> names)
+std::size_t choice_index(const std::string& text, const ValueName& name, std::span<const char* const> names)
 {
     std::string expected;
     std::size_t k = 0;
@@ -119,19 +120,56 @@ std::size_t choice_index(const std::string& text, const std::string& field, std:
         expected += (k == 0 ? "" : k + 1 == names.size() ? " or " : ", ") + std::string(c);
         ++k;
     }
-    throw InputError(kCommandLine, field, "expected " + expected + ", got '" + text + "'");
+    throw InputError(name.source, name.field, "expected " + expected + ", got '" + text + "'");
 }
 
-double number_in_range(double value, const std::string& field, double lo, double hi)
+double number_in_range(double value, const ValueName& name, double lo, double hi)
 {
     if (!std::isfinite(value) || value < lo || value > hi) {
         char b[64];
         std::snprintf(b, sizeof b, "[%g, %g]", lo, hi);
-        throw InputError(kCommandLine, field, "expected a number in " + std::string(b) + ", got '" + shortest(value) + "'");
+        throw InputError(name.source, name.field, "expected a number in " + std::string(b) + ", got '" + shortest(value) + "'");
     }
     return value;
 }
 
+std::string keyword_of(std::string_view option)
+{
+    std::string k(option.substr(option.rfind("--", 0) == 0 ? 2 : 0));
+    for (char& c : k)
+        if (c == '-') c = '_';
+    return k;
+}
+
+ValueName value_name(Naming naming, std::string_view option, std::string_view keyword)
+{
+    if (naming == Naming::OPTIONS) return ValueName(kCommandLine, std::string(option));
+    return ValueName("", keyword.empty() ? keyword_of(option) : std::string(keyword));
+}
+
+long long integer_value(const Given<long long>& value, const ValueName& name, long long lo, long long hi)
+{
+    if (const auto* v = std::get_if<long long>(&value)) return integer_in_range(*v, name, lo, hi);
+    return integer_from_text(std::get<std::string>(value), name, lo, hi);
+}
+
+std::uint64_t seed_value(const Given<std::uint64_t>& value, const ValueName& name)
+{
+    if (const auto* v = std::get_if<std::uint64_t>(&value)) return *v;
+    return seed_from_text(std::get<std::string>(value), name);
+}
+
+double number_value(const Given<double>& value, const ValueName& name, double lo, double hi)
+{
+    if (const auto* v = std::get_if<double>(&value)) return number_in_range(*v, name, lo, hi);
+    return number_from_text(std::get<std::string>(value), name, lo, hi);
+}
+
+double positive_value(const Given<double>& value, const ValueName& name, double hi)
+{
+    if (const auto* v = std::get_if<double>(&value)) return positive_in_range(*v, name, hi);
+    return positive_from_text(std::get<std::string>(value), name, hi);
+}
 
 std::optional<std::string> read_output_file(const std::string& path)
 {

@@ -210,7 +210,7 @@ SweepPlace sweep_place(const ExperimentRequest& o)
     SweepPlace p;
     p.dir = path_given(o.sweep, "--sweep").value_or(join_path("out", "experiment-" + which_name(o)));
     p.run.executable = o.executable;
-    p.run.jobs = static_cast<int>(integer_in_range(o.jobs, "--jobs", 1, 4096));
+    p.run.jobs = static_cast<int>(integer_in_range(o.jobs, "--jobs", kJobsRange[0], kJobsRange[1]));
     p.run.shard = o.shard;
     p.run.on_line = o.on_sweep_line;
     return p;
@@ -541,8 +541,8 @@ ExperimentResult run_map(const ExperimentRequest& o)
     const std::string out_dir = o.out.string();
     if (o.reuse && o.plan_only) throw InputError(kCommandLine, "--plan-only", "expected no --reuse (reused drapes need no plan)");
     const int nr = o.map_rows, nc = o.map_columns;
-    if (nr < 2 || nc < 2 || nr > 9 || nc > 9)
-        throw InputError(kCommandLine, "--map-grid", "expected RxL: R ratios by L bending lengths, each 2 .. 9");
+    const auto in_range = [](int n) { return n >= kMapGridRange[0] && n <= kMapGridRange[1]; };
+    if (!in_range(nr) || !in_range(nc)) throw InputError(kCommandLine, "--map-grid", map_grid_expected());
     std::vector<std::string> warnings;
     const kes::FabricData cotton = io::find_fabric("cotton", &warnings);
     std::vector<kes::FabricData> paper;
@@ -701,11 +701,17 @@ ExperimentResult run_figure1(const ExperimentRequest& o)
 
 }  // namespace
 
+std::string map_grid_expected()
+{
+    return "expected RxL: R ratios by L bending lengths, each an integer in [" + std::to_string(kMapGridRange[0]) + ", "
+        + std::to_string(kMapGridRange[1]) + "]";
+}
+
 ExperimentResult experiment(const ExperimentRequest& request)
 {
     const MonitorScope monitor(request.monitor);
-    integer_in_range(request.seeds, "--seeds", 1, 100);
-    if (request.grid) integer_in_range(*request.grid, "--grid", 3, 401);
+    integer_in_range(request.seeds, "--seeds", kExperimentSeedsRange[0], kExperimentSeedsRange[1]);
+    if (request.grid) integer_in_range(*request.grid, "--grid", kExperimentGridRange[0], kExperimentGridRange[1]);
     integer_in_range(request.threads, "--threads", 0, io::kMaxThreads);
     ExperimentResult result;
     try {

@@ -23,19 +23,26 @@ enum class Experiment { CUBE, MAP, FIGURE1 };
 inline constexpr std::array<Named<Experiment>, 3> kExperimentNames{
     {{Experiment::CUBE, "cube"}, {Experiment::MAP, "map"}, {Experiment::FIGURE1, "figure1"}}};
 
+/// The limits of an experiment's options (the job checks them; --help shows them).
+inline constexpr long long kExperimentSeedsRange[2] = {1, 100};  ///< --seeds
+inline constexpr long long kExperimentGridRange[2] = {3, 401};   ///< --grid
+inline constexpr long long kMapGridRange[2] = {2, 9};            ///< --map-grid: each of R and L
+/// What --map-grid expects: "expected RxL: R ratios by L bending lengths, each an integer in [2, 9]".
+std::string map_grid_expected();
+
 struct ExperimentRequest {
     Experiment which = Experiment::CUBE;
     std::filesystem::path executable;  ///< the woven program that runs each drape (SweepRunOptions::executable)
     /// Not docs/experiments: a run in a clone must not overwrite the committed figures.
     std::filesystem::path out = "out/experiments";
-    int seeds = 5;                  ///< cube: seeds 1 .. seeds per fabric, [1, 100]
-    std::optional<int> grid;        ///< particles along the cloth's longer side, [3, 401] (default: the scene's)
+    int seeds = 5;                  ///< cube: seeds 1 .. seeds per fabric, kExperimentSeedsRange
+    std::optional<int> grid;        ///< particles along the cloth's longer side, kExperimentGridRange (default: the scene's)
     int threads = 1;                ///< per drape (0: all cores)
-    int map_rows = 5, map_columns = 4;  ///< map: ratios by bending lengths, each 2 .. 9
+    int map_rows = 5, map_columns = 4;           ///< map: ratios by bending lengths, each in kMapGridRange
     std::optional<std::filesystem::path> reuse;  ///< map: an earlier corner_map.json whose drapes to analyse again
     std::optional<std::filesystem::path> sweep;  ///< the sweep folder (default out/experiment-<which>)
     bool plan_only = false;         ///< write the plan (and the map's fabric files) and stop
-    int jobs = 1;                   ///< drapes at once on this machine, [1, 4096]
+    int jobs = 1;                   ///< drapes at once on this machine, kJobsRange
     ShardSpec shard;                ///< this process's drapes
     std::vector<std::string> fabrics = {"cotton", "wool", "polyester_cotton"};
     std::string command;            ///< the command line the results record

@@ -35,6 +35,9 @@ struct MergeCounts {
     std::size_t done = 0, failed = 0, missing = 0;
 };
 
+/// The points (or an experiment's drapes) run at once on one machine: --jobs.
+inline constexpr long long kJobsRange[2] = {1, 4096};
+
 /// How run_sweep_points runs a plan.
 struct SweepRunOptions {
     /// The woven program each point runs as a child process, with the point's command line (the

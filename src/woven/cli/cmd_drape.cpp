@@ -21,25 +21,23 @@ namespace woven::cli {
 
 namespace {
 
-/// The command's options as a typed request (the one-line errors of bad values).
+/// The command's options as a typed request (app::drape_request checks them: the one-line
+/// errors of bad values).
 DrapeRequest drape_request(const DrapeOptions& options)
 {
-    DrapeRequest r;
+    DrapeValues v;
+    v.grid = options.grid;
+    v.solver = options.solver;
+    v.seed = options.seed;
+    v.threads = options.threads;
+    v.max_steps = options.max_steps;
+    v.perturb_m = options.perturb;
+    v.hysteresis = options.hysteresis;
+    v.bias = options.bias;
+    v.start = options.start;
+    DrapeRequest r = app::drape_request(v, Naming::OPTIONS);
     r.scene = options.scene;
     r.fabric = options.fabric;
-    if (const auto g = parse_integer(options.grid, "--grid", kGridRange[0], kGridRange[1])) r.grid = static_cast<int>(*g);
-    if (options.solver) {
-        r.solver = sim::solver_kind_from_string(*options.solver);
-        if (!r.solver) throw InputError(kCommandLine, "--solver", "expected fast or paper");
-    }
-    if (options.seed) r.seed = parse_seed(*options.seed, "--seed");
-    if (const auto m = parse_integer(options.max_steps, "--max-steps", kMaxStepsRange[0], kMaxStepsRange[1]))
-        r.max_steps = static_cast<int>(*m);
-    if (const auto t = parse_integer(options.threads, "--threads", 0, io::kMaxThreads)) r.threads = static_cast<int>(*t);
-    if (options.perturb) r.perturb_m = parse_number(*options.perturb, "--perturb", 0, io::kMaxPerturbation_m);
-    if (options.hysteresis) r.hysteresis = parse_hysteresis(*options.hysteresis, "--hysteresis");
-    if (options.bias) r.bias = parse_bias_bending(*options.bias, "--bias");
-    if (options.start) r.start = parse_path(*options.start, "--start");
     return r;
 }
 

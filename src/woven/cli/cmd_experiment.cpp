@@ -9,12 +9,13 @@
 
 #include <CLI/CLI.hpp>
 
-#include "woven/batch/experiment.hpp"
 #include "woven/app/progress.hpp"
+#include "woven/batch/experiment.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
 #include "woven/cli/progress_display.hpp"
 #include "woven/common/error.hpp"
+#include "woven/io/scene_file.hpp"
 
 namespace woven::cli {
 
@@ -25,9 +26,9 @@ namespace {
 struct ExperimentOptions {
     std::string which;
     std::string out = ExperimentRequest{}.out.string();
-    int seeds = 5;
-    std::optional<int> grid;
-    int threads = 1;
+    std::string seeds = std::to_string(ExperimentRequest{}.seeds);
+    std::optional<std::string> grid;
+    std::string threads = std::to_string(ExperimentRequest{}.threads);
     std::string map_grid = "5x4";
     std::optional<std::string> reuse;
     std::optional<std::string> sweep;
@@ -42,19 +43,19 @@ ExperimentRequest experiment_request(const ExperimentOptions& o, const std::stri
     ExperimentRequest r;
     r.which = parse_choice(o.which, "EXPERIMENT", kExperimentNames);
     r.out = o.out;
-    r.seeds = o.seeds;
-    r.grid = o.grid;
-    r.threads = o.threads;
+    r.seeds = static_cast<int>(parse_integer(o.seeds, "--seeds", kExperimentSeedsRange[0], kExperimentSeedsRange[1]));
+    if (const auto g = parse_integer(o.grid, "--grid", kExperimentGridRange[0], kExperimentGridRange[1])) r.grid = static_cast<int>(*g);
+    r.threads = static_cast<int>(parse_integer(o.threads, "--threads", 0, io::kMaxThreads));
     if (r.which == Experiment::MAP) {
         if (o.reuse && o.plan_only) throw InputError(kCommandLine, "--plan-only", "expected no --reuse (reused drapes need no plan)");
         char x = 0, extra = 0;
         if (std::sscanf(o.map_grid.c_str(), "%d%c%d%c", &r.map_rows, &x, &r.map_columns, &extra) != 3 || x != 'x')
-            throw InputError(kCommandLine, "--map-grid", "expected RxL: R ratios by L bending lengths, each 2 .. 9");
+            throw InputError(kCommandLine, "--map-grid", map_grid_expected());
     }
     if (o.reuse) r.reuse = o.reuse;
     if (o.sweep) r.sweep = parse_path(*o.sweep, "--sweep");
     r.plan_only = o.plan_only;
-    r.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
+    r.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", kJobsRange[0], kJobsRange[1]));
     r.shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
     r.executable = kThisProgram;
     r.fabrics = o.fabrics;
@@ -99,19 +100,24 @@ void add_experiment_command(CLI::App& app, int& exit_code)
                 "Each experiment's files are one set, its JSON written last naming every file with its SHA-256. Ctrl-C (SIGINT) "
                 "or SIGTERM stops the running drapes and exits with 130 or 143 without writing: the folder keeps the previous set "
                 "(finished drapes stay in the sweep folder).");
-    sub->add_option("EXPERIMENT", o->which, "cube, map or figure1")->required()->check(CLI::IsMember({"cube", "map", "figure1"}));
+    sub->add_option("EXPERIMENT", o->which, "The experiment")->required()->type_name(choice_type(kExperimentNames));
     sub->add_option("--out", o->out, "Output directory")->capture_default_str();
-    sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")->capture_default_str()->check(CLI::Range(1, 100));
-    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (default: the scene's)")->check(CLI::Range(3, 401));
+    sub->add_option("--seeds", o->seeds, "cube: seeds 1 .. N per fabric")
+        ->capture_default_str()
+        ->type_name(int_type(kExperimentSeedsRange));
+    sub->add_option("--grid", o->grid, "Particles along the cloth's longer side (default: the scene's)")
+        ->type_name(int_type(kExperimentGridRange));
     sub->add_option("--threads", o->threads, "Worker threads per drape (0: all cores)")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
-    sub->add_option("--map-grid", o->map_grid, "map: RxL, R ratios by L bending lengths")->capture_default_str();
+        ->type_name(int_type(0, io::kMaxThreads));
+    sub->add_option("--map-grid", o->map_grid, "map: RxL, R ratios by L bending lengths")
+        ->capture_default_str()
+        ->type_name("RxL (" + int_type(kMapGridRange) + " each)");
     sub->add_option("--reuse", o->reuse, "map: analyse the drapes of an earlier run again (its corner_map.json), without draping");
     sub->add_option("--sweep", o->sweep, "The sweep folder: the plan and one folder per drape (default out/experiment-<name>)");
     sub->add_flag("--plan-only", o->plan_only, "Write the plan (and the map's fabric files) into the sweep folder and stop");
-    sub->add_option("--jobs", o->jobs, "Drapes run at once on this machine")->capture_default_str()->type_name("INT");
-    sub->add_option("--shard", o->shard, "Run shard I of N (0 <= I < N) of the drapes, as `woven sweep --shard`");
+    sub->add_option("--jobs", o->jobs, "Drapes run at once on this machine")->capture_default_str()->type_name(int_type(kJobsRange));
+    sub->add_option("--shard", o->shard, "Run shard I of N (0 <= I < N) of the drapes, as `woven sweep --shard`")->type_name("I/N");
     sub->callback([o, &exit_code, sub] {
         // The command the results record: the options that change them (not where or how the
         // drapes ran: --sweep, --plan-only, --jobs, --shard).

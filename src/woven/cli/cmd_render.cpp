@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "woven/app/drape.hpp"
 #include "woven/app/scene_view.hpp"
 #include "woven/cli/args.hpp"
 #include "woven/cli/commands.hpp"
@@ -38,13 +39,19 @@ struct RenderCommandOptions {
     std::string out = "render.png";
 };
 
-/// "WxH" -> (W, H), each 1..16384.
+/// --size's type in --help: "WxH (INT in [1, 16384] each)".
+std::string size_type() { return "WxH (" + int_type(kPictureSizeRange) + " each)"; }
+
+/// "WxH" -> (W, H), each in kPictureSizeRange.
 std::pair<int, int> parse_size(const std::string& s)
 {
     int w = 0, h = 0;
     char x = 0, extra = 0;
-    if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 || w > 16384 || h > 16384)
-        throw InputError(kCommandLine, "--size", "expected WxH, each 1 .. 16384 pixels (e.g. 1024x768)");
+    const auto in_range = [](int v) { return v >= kPictureSizeRange[0] && v <= kPictureSizeRange[1]; };
+    if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || !in_range(w) || !in_range(h))
+        throw InputError(kCommandLine, "--size",
+                         "expected WxH, each an integer in [" + std::to_string(kPictureSizeRange[0]) + ", "
+                             + std::to_string(kPictureSizeRange[1]) + "] (e.g. 1024x768), got '" + printable(s, 40) + "'");
     return {w, h};
 }
 
@@ -64,8 +71,7 @@ int run_render(const RenderCommandOptions& o)
 {
     const auto [width, height] = parse_size(o.size);
     std::string view_name = o.view.empty() ? (o.scene ? "scene" : "corner") : o.view;
-    const auto view = render::parse_view(view_name);
-    if (!view) throw InputError(kCommandLine, "--view", "expected front, corner, side, top or scene");
+    const std::optional<render::View> view = parse_choice(view_name, "--view", render::kViewNames);
     if (o.out.empty()) throw InputError(kCommandLine, "--out", "expected a PNG file name");
     {
         // A directory (or anything but a file) is bad usage, as for the other commands.
@@ -129,8 +135,8 @@ void add_render_command(CLI::App& app, int& exit_code)
     sub->add_option("MESH", o->mesh, "The cloth: an OBJ file (e.g. out/drape.obj)")->required();
     sub->add_option("--scene", o->scene, "The scene whose obstacles to draw (built-in name or .toml); else a floor only");
     sub->add_option("--fabric", o->fabric, "The fabric whose colour to use (default: the scene's, else cotton)");
-    sub->add_option("--view", o->view, "front, corner, side, top or scene (default: scene with --scene, else corner)");
-    sub->add_option("--size", o->size, "Picture size WxH in pixels")->capture_default_str();
+    sub->add_option("--view", o->view, "The view (default: scene with --scene, else corner)")->type_name(choice_type(render::kViewNames));
+    sub->add_option("--size", o->size, "Picture size WxH in pixels")->capture_default_str()->type_name(size_type());
     sub->add_option("--out", o->out, "Output PNG file")->capture_default_str();
     sub->callback([o, &exit_code] { exit_code = run_render(*o); });
 }

@@ -55,7 +55,7 @@ int run_sweep(const SweepOptions& o)
     const std::string out = o.out ? parse_path(*o.out, "--out") : join_path("out", "sweep-" + plan.name);
     SweepRunOptions run;
     run.executable = kThisProgram;
-    run.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", 1, 4096));
+    run.jobs = static_cast<int>(parse_integer(o.jobs, "--jobs", kJobsRange[0], kJobsRange[1]));
     run.shard = shard_from(o.shard, [](const char* name) { return std::getenv(name); });
     run.on_line = print_line;
     if (o.list || o.merge) {
@@ -100,8 +100,10 @@ void add_sweep_command(CLI::App& app, int& exit_code)
                 "interrupted.");
     sub->add_option("PLAN", o->plan, "The plan, a .toml file")->required();
     sub->add_option("--out", o->out, "The sweep folder (default out/sweep-<plan name>)");
-    sub->add_option("--jobs", o->jobs, "Points run at once on this machine (the cores are divided between them)")->capture_default_str()->type_name("INT");
-    sub->add_option("--shard", o->shard, "Run shard I of N (0 <= I < N): the points whose index modulo N is I");
+    sub->add_option("--jobs", o->jobs, "Points run at once on this machine (the cores are divided between them)")
+        ->capture_default_str()
+        ->type_name(int_type(kJobsRange));
+    sub->add_option("--shard", o->shard, "Run shard I of N (0 <= I < N): the points whose index modulo N is I")->type_name("I/N");
     sub->add_flag("--merge", o->merge, "Only merge the finished points into sweep.csv and sweep.json");
     sub->add_flag("--list", o->list, "List the points and their command lines, run nothing");
     sub->callback([o, &exit_code] { exit_code = run_sweep(*o); });

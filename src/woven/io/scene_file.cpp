@@ -343,12 +343,12 @@ SceneSpec find_scene(const std::string& name_or_path, std::vector<std::string>* 
     throw InputError(name_or_path, "scene", "no such scene file or built-in scene (built-in: " + names + ")");
 }
 
-void apply_overrides(SceneSpec& scene, const SceneOverrides& o, const std::string& source)
+void apply_overrides(SceneSpec& scene, const SceneOverrides& o, const std::string& source, const std::string& grid_field)
 {
     ClothSpec& c = scene.cloth;
     if (o.grid) {
         const int n = *o.grid;
-        check_grid_size(n, n, source, "--grid");
+        check_grid_size(n, n, source, grid_field);
         const int old_nu = c.nu, old_nv = c.nv;
         if (c.size_u >= c.size_v) {
             const double sigma = c.size_u / (n - 1);
@@ -361,7 +361,7 @@ void apply_overrides(SceneSpec& scene, const SceneOverrides& o, const std::strin
             c.nu = std::max(3, static_cast<int>(std::lround(c.size_u / sigma)) + 1);
             c.size_u = (c.nu - 1) * sigma;
         }
-        check_grid_size(c.nu, c.nv, source, "--grid");
+        check_grid_size(c.nu, c.nv, source, grid_field);
         for (auto& [i, j] : c.pinned) {
             i = static_cast<int>(std::lround(double(i) * (c.nu - 1) / (old_nu - 1)));
             j = static_cast<int>(std::lround(double(j) * (c.nv - 1) / (old_nv - 1)));
@@ -380,7 +380,7 @@ void apply_overrides(SceneSpec& scene, const SceneOverrides& o, const std::strin
         if (*o.threads < 0) throw InputError(source, "--threads", "expected an integer >= 0");
         scene.solver.threads = *o.threads;
     }
-    if (o.grid) check_scene(scene, source, "--grid");
+    if (o.grid) check_scene(scene, source, grid_field);
 }
 
 }  // namespace woven::io

@@ -125,7 +125,9 @@ struct SceneOverrides {
 };
 
 /// Applies command-line overrides to a scene and re-checks it (grid limits, the cloth not
-/// starting inside an obstacle). Errors name `source` (e.g. "command line") and the option.
-void apply_overrides(SceneSpec& scene, const SceneOverrides& overrides, const std::string& source = "command line");
+/// starting inside an obstacle). Errors name `source` (e.g. "command line") and the option, the
+/// grid's as `grid_field` (Python's keyword: "grid").
+void apply_overrides(SceneSpec& scene, const SceneOverrides& overrides, const std::string& source = "command line",
+                     const std::string& grid_field = "--grid");
 
 }  // namespace woven::io

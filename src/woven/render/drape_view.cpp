@@ -88,23 +88,12 @@ Vec3 fabric_color(const std::optional<std::array<double, 3>>& srgb)
     return linear;
 }
 
-std::optional<View> parse_view(const std::string& name)
-{
-    for (View v : {View::SCENE, View::FRONT, View::CORNER, View::SIDE, View::TOP})
-        if (view_name(v) == name) return v;
-    return std::nullopt;
-}
+std::optional<View> parse_view(const std::string& name) { return value_named(kViewNames, name); }
 
 std::string view_name(View view)
 {
-    switch (view) {
-    case View::SCENE: return "scene";
-    case View::FRONT: return "front";
-    case View::CORNER: return "corner";
-    case View::SIDE: return "side";
-    case View::TOP: return "top";
-    }
-    return "scene";
+    const char* name = name_of(kViewNames, view);
+    return name ? name : "scene";
 }
 
 Camera view_camera(const DrapeScene& scene, View view, double aspect, double fov_deg)

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "woven/common/choice.hpp"
 #include "woven/common/types.hpp"
 #include "woven/geometry/obstacle.hpp"
 #include "woven/render/raytracer.hpp"
@@ -39,6 +40,10 @@ enum class View {
     SIDE,    ///< from +x, 12 degrees above
     TOP,     ///< straight down, +y up in the picture
 };
+
+/// The views' names (common/choice.hpp), in the order --help lists them.
+inline constexpr std::array<Named<View>, 5> kViewNames{
+    {{View::FRONT, "front"}, {View::CORNER, "corner"}, {View::SIDE, "side"}, {View::TOP, "top"}, {View::SCENE, "scene"}}};
 
 /// "scene", "front", "corner", "side" or "top"; std::nullopt for anything else.
 std::optional<View> parse_view(const std::string& name);

@@ -155,7 +155,8 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
     return c;
 }
 
-CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress)
+CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress,
+                        const sim::IterationCallback& iteration)
 {
     const CusickSetup setup = make_cusick_setup(options);
     model::ClothModel model = model::make_cloth_model(fabric, setup.grid, options.model, setup.cut.active, setup.cut.area);
@@ -185,7 +186,7 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
         problem.obstacles = &obstacles;
         problem.initial = x;
         if (r.stages > 0) solver.perturbation = 0;  // the start's perturbation once
-        sim::Result s = sim::drape(problem, solver, progress);
+        sim::Result s = sim::drape(problem, solver, progress, iteration);
         if (r.stages > 0) sim::add_counters(s, r.drape);
         x = s.x;
         r.drape = std::move(s);
@@ -277,7 +278,7 @@ double guide_phase(std::uint64_t seed, int guides)
 }
 
 CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions& search,
-                           const sim::ProgressCallback& progress)
+                           const sim::ProgressCallback& progress, const sim::IterationCallback& iteration)
 {
     std::vector<CusickStart> starts;
     if (search.release) starts.push_back({});
@@ -300,14 +301,21 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
             if (!progress(s)) stop = true;
             return !stop.load();
         };
+        const auto newton = [&](const sim::IterationInfo& i) {
+            if (stop) return false;
+            if (!iteration) return true;
+            const std::lock_guard<std::mutex> lock(progress_mutex);
+            if (!iteration(i)) stop = true;
+            return !stop.load();
+        };
         int stages = 0;
         if (starts[k].stiffer > 0) {  // the stiffer copy first, the fabric from its rest
-            const CusickResult stiff = run_cusick(stiffer_in_bending(fabric, starts[k].stiffer), o, step);
+            const CusickResult stiff = run_cusick(stiffer_in_bending(fabric, starts[k].stiffer), o, step, newton);
             o.start = stiff.drape.x;
             stages = stiff.stages;
             if (stiff.drape.interrupted) stop = true;
         }
-        out.states[k].result = run_cusick(fabric, o, step);
+        out.states[k].result = run_cusick(fabric, o, step, newton);
         out.states[k].result.stages += stages;
         if (out.states[k].result.drape.interrupted) stop = true;
     };
@@ -341,13 +349,13 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
 }
 
 CusickSearch run_cusick_seed(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions* search,
-                             const sim::ProgressCallback& progress)
+                             const sim::ProgressCallback& progress, const sim::IterationCallback& iteration)
 {
     CusickSearch found;
     if (search) {
-        found = search_cusick(fabric, options, *search, progress);
+        found = search_cusick(fabric, options, *search, progress, iteration);
     } else {
-        found.states.push_back({{}, run_cusick(fabric, options, progress)});
+        found.states.push_back({{}, run_cusick(fabric, options, progress, iteration)});
         found.prediction = 0;
         found.interrupted = found.states[0].result.drape.interrupted;
     }

@@ -223,21 +223,22 @@ double guide_phase(std::uint64_t seed, int guides);
 /// The fabric with its bending curves (warp, weft and the bias B) times `factor` (> 0).
 kes::FabricData stiffer_in_bending(const kes::FabricData& fabric, double factor);
 
-/// Runs the search. `progress` may be called from several threads at once (jobs > 1) and
-/// returns false to stop every start.
+/// Runs the search. `progress` and `iteration` are called from one thread at a time (under a
+/// lock with jobs > 1); false from either stops every start.
 CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions& search,
-                           const sim::ProgressCallback& progress = {});
+                           const sim::ProgressCallback& progress = {}, const sim::IterationCallback& iteration = {});
 
 /// Drapes the specimen to rest by options.protocol (sim::drape with the residual test of `woven
 /// drape`; with friction the slip states carried through every step and stage) and reads its
-/// shadow.
-CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress = {});
+/// shadow. `progress` after each step, `iteration` before each Newton iteration (sim::drape's).
+CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& options, const sim::ProgressCallback& progress = {},
+                        const sim::IterationCallback& iteration = {});
 
 /// One seed's measurement: with `search` the search of rest states (search_cusick), else the
 /// drape (run_cusick) as the one state, predicted (prediction -1: a search that reached no rest
 /// state).
 CusickSearch run_cusick_seed(const kes::FabricData& fabric, const CusickOptions& options, const CusickSearchOptions* search,
-                             const sim::ProgressCallback& progress = {});
+                             const sim::ProgressCallback& progress = {}, const sim::IterationCallback& iteration = {});
 
 /// A start's label: "release", "<n> guides", "from <f> x B".
 std::string start_name(const CusickStart& start);
