@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """`woven report` pages opened in headless Chromium, one kind of folder per run:
 
-  test_report_pages.py KIND WOVEN     KIND: drape, cusick, kes-test, fit, experiment
+  test_report_pages.py KIND WOVEN     KIND: drape, cusick, kes-test, fit, experiment, garment
 
 Each run makes a small folder of that kind, writes its report.html, has Chromium build it
 (--dump-dom after the page's script: data-ready="1") and checks the page against the folder:
@@ -421,11 +421,83 @@ def test_drape(woven, tmp):
         check(min(ends) >= 20, f"the legend's colour bar is drawn (viridis ends: {ends} pixels, the cloth hidden)")
 
 
+def test_garment(woven, tmp):
+    # The four-gore skirt cut on the bias (grain 45 degrees) at a coarse 4 cm: four nodes.
+    source = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    out = os.path.join(tmp, "garment")
+    run([woven, "garment", os.path.join(source, "examples", "garments", "gored-skirt-bias.toml"), "--spacing", "4", "--threads", "1",
+         "--width", "200", "--height", "250", "--out", out])
+    j = json.load(open(os.path.join(out, "report.json")))
+    dom, body = dump(report(woven, out))
+    point = table_rows(dom, "points")
+    head = re.search(r'<table class="sortable" id="points"><thead><tr>(.*?)</tr>', dom, re.S)
+    cols = re.findall(r"<th[^>]*>([^<]*)</th>", head.group(1)) if head else []
+    cell = lambda name: point[0][cols.index(name)] if point and name in cols else "nan"
+    check(same(float(cell("wall_time_s")), j["wall_time_s"], 1e-5), f"the table's wall_time_s is report.json's: {cell('wall_time_s')}")
+    check(int(cell("hem_nodes")) == j["hem"]["nodes"] and same(float(cell("flare")), j["hem"]["flare"], 1e-5),
+          f"the table's hem_nodes {cell('hem_nodes')} and flare {cell('flare')} are report.json's")
+    g = dict((r[0], r[1]) for r in table_rows(dom, "garment"))
+    check(g.get("fabric") == j["fabric"] and int(g.get("particles", -1)) == j["particles"] and same(float(g.get("spacing_m", "nan")), j["spacing_m"], 1e-5),
+          f"the garment's table: fabric, particles, spacing {g}")
+    pieces = table_rows(dom, "pieces")
+    check([(r[0], float(r[1]), int(r[2])) for r in pieces] == [(p["name"], p["grain_deg"], p["particles"]) for p in j["pieces"]]
+          and all(p["grain_deg"] == 45 for p in j["pieces"]), f"the pieces with their grain angles (45 deg): {pieces}")
+    hem = dict((r[0], r[1]) for r in table_rows(dom, "hem"))
+    for k in ("flare", "mean_radius_m", "below_waist_m", "length_drop_m"):
+        check(same(float(hem.get(k, "nan")), j["hem"][k], 1e-5), f"the hem's {k}: {hem.get(k)} vs {j['hem'][k]}")
+    check(int(hem.get("nodes", -1)) == j["hem"]["nodes"] == 4, f"the hem's nodes: {hem.get('nodes')} (report.json {j['hem']['nodes']}, 4 expected)")
+    angles = [float(a) for a in hem.get("node_angle_deg", "").split()]
+    check(len(angles) == len(j["hem"]["node_angle_deg"]) and all(same(a, b, 1e-5) for a, b in zip(angles, j["hem"]["node_angle_deg"])),
+          f"the nodes' angles: {angles}")
+    seams = table_rows(dom, "seams")
+    check(len(seams) == len(j["seams"]) and all(r[0] == s["name"] and int(r[1]) == s["stitches"] and same(float(r[2]), s["max_gap_m"], 1e-5)
+                                                  and same(float(r[4]), s["max_gap_over_spacing"], 1e-5) for r, s in zip(seams, j["seams"])),
+          f"the seams' gaps: {len(seams)} rows")
+    plots = plots_of(dom)
+    check(len(plots) == 2, f"two plots: the hem's radius and height per angle ({[d['title'] for d, _ in plots.values()]})")
+    h = j["hem"]
+
+    def interpolated(values, a):
+        # The hem per bin, periodic, linear between the bins beside angle a.
+        xs, n = h["angle_deg"], len(h["angle_deg"])
+        k = sum(1 for x in xs if x <= a)
+        lo, hi = (n - 1 if k == 0 else k - 1), k % n
+        a_lo, a_hi = xs[lo] - (360 if k == 0 else 0), xs[hi] + (360 if k == n else 0)
+        t = (a - a_lo) / (a_hi - a_lo)
+        return (1 - t) * values[lo] + t * values[hi]
+    for pid, (data, svg) in plots.items():
+        check_plot(pid, data, svg)
+        by = {s["label"]: s for s in data["series"]}
+        key, label = ("radius_m", "hem radius") if data["title"].startswith("Hem radius") else ("height_m", "hem height")
+        check(label in by, f"{pid}: series '{label}'")
+        if label in by:
+            check_series(pid, by[label], h["angle_deg"], h[key], f"report.json's hem angle_deg, {key} (72 bins)")
+        nodes = by.get("nodes", {"x": [], "y": [], "label": "nodes"})
+        check_series(pid, nodes, h["node_angle_deg"], [interpolated(h[key], a) for a in h["node_angle_deg"]],
+                     f"the nodes at report.json's node_angle_deg, on the line between bins")
+        if key == "radius_m":
+            w = by.get("waist radius", {"y": []})
+            check(len(w["y"]) == 2 and all(same(y, j["waist"]["radius_m"]) for y in w["y"]), f"{pid}: the waist's radius {w['y']}")
+    check(re.search(r'<img alt="garment garment.png" src="data:image/png;base64,', dom) is not None, "the gallery holds garment.png")
+    # The 3-D view: garment.glb, the cloth on the body (the dress form from waist - hip depth - 22 cm to waist + 30 cm).
+    check('data-view="webgl"' in body, "the 3-D view of garment.glb was built with WebGL")
+    boxes = json.loads(re.search(r'data-bounds="([^"]*)"', body).group(1).replace("&quot;", '"')) if "data-bounds" in body else []
+    b = j["body"]
+    lo, hi = b["waist_height_m"] - b["hip_depth_m"] - 0.22, b["waist_height_m"] + 0.30
+    check(len(boxes) == 1 and abs(boxes[0]["box"][2] - lo) < 1e-3 and abs(boxes[0]["box"][5] - hi) < 1e-3,
+          f"the view holds the body from z {lo:.3f} to {hi:.3f} m: {boxes}")
+    models = json.loads(re.search(r'<script type="application/json" id="woven-models">(.*?)</script>', dom, re.S).group(1)) if "woven-models" in dom else []
+    import base64
+    glb = open(os.path.join(out, "garment.glb"), "rb").read()
+    check(len(models) == 1 and base64.b64decode(models[0]["glb"]) == glb, "the view's model is the folder's garment.glb, byte for byte")
+
+
 def main():
     which, woven = sys.argv[1], os.path.abspath(sys.argv[2])
     tmp = tempfile.mkdtemp(prefix="woven-report-")
     try:
-        {"drape": test_drape, "cusick": test_cusick, "kes-test": test_kes, "fit": test_fit, "experiment": test_experiment}[which](woven, tmp)
+        {"drape": test_drape, "cusick": test_cusick, "kes-test": test_kes, "fit": test_fit, "experiment": test_experiment,
+         "garment": test_garment}[which](woven, tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if FAILURES:

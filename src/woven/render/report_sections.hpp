@@ -78,6 +78,11 @@ std::string drape_section(const ReportPoint& p);
 /// the flat specimen.
 std::string cusick_section(const ReportPoint& p, const std::vector<double>& shadow_radius, ReportPlots& plots);
 
+/// A garment folder (report.json of `woven garment`): the garment, fabric, spacing and ramp; the
+/// pieces with their grain angles; the hem (nodes, flare, length drop); each seam's gaps and
+/// forces; plots of the hem's radius and height per 5-degree bin of azimuth (nodes marked).
+std::string garment_section(const ReportPoint& p, ReportPlots& plots);
+
 /// A fit folder: `curves` and the energy functions of its CSV files.
 void fit_section(const ReportPoint& p, const CsvReader& csv, const std::vector<CurveFitView>& curves, ReportPlots& plots);
 
