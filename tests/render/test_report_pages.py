@@ -12,6 +12,7 @@ are 1/256 px). The drape
 page's 3-D view is also checked in screenshots: where the cube's top edge meets the cloth no
 cube-coloured pixel shows through the cloth, and the field legend is drawn.
 """
+import html
 import json
 import math
 import os
@@ -23,6 +24,7 @@ import sys
 import tempfile
 
 FAILURES = []
+SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def check(cond, what):
@@ -129,6 +131,11 @@ def check_plot(pid, data, svg, tol=1e-4, tol_px=0.05):
     check(f["legend_whole"], f"{pid}: the legend's text is whole (not clipped)")
     labels = [s["label"] for s in labelled]
     check(len(labels) == len(set(labels)), f"{pid}: each legend label once: {labels}")
+    # The text is SVG text (searchable, read by screen readers), not glyph outlines.
+    texts = [html.unescape(t) for t in re.findall(r"<text\b[^>]*>([^<]*)</text>", svg)]
+    want = [t for t in [data["title"], data["x_label"], data["y_label"]] + labels if t]
+    check(all(t in texts for t in want) and "<symbol" not in svg, f"{pid}: its title, axis labels and legend are <text>: missing "
+          f"{[t for t in want if t not in texts]}, glyph outlines: {'<symbol' in svg}")
     paths = svg_paths(svg)
     sx, sy = tol * (f["x_hi"] - f["x_lo"]), tol * (f["y_hi"] - f["y_lo"])
     for s in data["series"]:
@@ -202,6 +209,46 @@ def table_rows(dom, table_id):
     return [re.findall(r"<td>([^<]*)</td>", r) for r in re.findall(r"<tr[^>]*>(.*?)</tr>", t.group(1), re.S)] if t else []
 
 
+def points_cell(dom, column):
+    """The points table's cell of `column` in its first row ("" if none)."""
+    head = re.search(r'<table class="sortable" id="points"><thead><tr>(.*?)</tr>', dom, re.S)
+    cols = re.findall(r"<th[^>]*>([^<]*)</th>", head.group(1)) if head else []
+    rows = table_rows(dom, "points")
+    return rows[0][cols.index(column)] if rows and column in cols else ""
+
+
+def check_wall(dom, want, what):
+    """The page's wall_time_s (its points table) is `want` (> 0 s), to its 6 digits."""
+    cell = points_cell(dom, "wall_time_s")
+    check(cell != "" and want > 0 and same(float(cell), want, 1e-5), f"the table's wall_time_s {cell!r} is {what} ({want:.6g} s)")
+
+
+def check_tables_fit(page, width=700):
+    """Opened in a `width` px window, every table lies inside the page: a table wider than the
+    page scrolls inside its box instead of running off it (at least one does here)."""
+    measure = page[:-len(".html")] + "-measure.html"
+    script = """<script>(function(){
+      var page = document.body.getBoundingClientRect(), out = [];
+      document.querySelectorAll('table.sortable').forEach(function(t){
+        var box = t.parentElement, r = box.getBoundingClientRect();
+        out.push({id: t.id, box: box.className, right: r.right, page_right: page.right, table_w: t.scrollWidth,
+                  box_w: box.clientWidth, scroll_w: box.scrollWidth, overflow: getComputedStyle(box).overflowX});
+      });
+      document.body.dataset.tables = JSON.stringify(out);
+    })();</script>"""
+    with open(page) as f, open(measure, "w") as g:
+        g.write(f.read().replace("</body>", script + "</body>"))
+    dom = chromium([f"--window-size={width},600", "--dump-dom", "file://" + measure])
+    m = re.search(r'data-tables="([^"]*)"', dom.stdout)
+    tables = json.loads(html.unescape(m.group(1))) if m else []
+    check(tables != [], f"the page's tables were measured at {width} px ({len(tables)})")
+    outside = [t["id"] for t in tables if t["right"] > t["page_right"] + 0.5]
+    check(outside == [], f"every table's box ends inside the page at {width} px: {outside} run off")
+    wide = [t for t in tables if t["table_w"] > t["box_w"]]
+    check(wide != [] and all(t["box"] == "table-box" and t["overflow"] in ("auto", "scroll") and t["scroll_w"] > t["box_w"] for t in wide),
+          f"the tables wider than the page scroll inside their box: {[(t['id'], t['table_w'], t['box_w'], t['overflow']) for t in wide]}")
+
+
 def report(woven, folder):
     run([woven, "report", folder])
     page = os.path.join(folder, "report.html")
@@ -220,7 +267,11 @@ def test_kes(woven, tmp):
         run([woven, "kes-test", "wool", "--test", test, "--out", os.path.join(out, test), "--threads", "1"] + extra)
     for test in ("cantilever", "shear", "bending"):
         folder = os.path.join(out, test)
-        dom, _ = dump(report(woven, folder))
+        page = report(woven, folder)
+        dom, _ = dump(page)
+        check_wall(dom, json.load(open(os.path.join(folder, "kes-report.json"))).get("wall_time_s", 0), "kes-report.json's")
+        if test == "shear":
+            check_tables_fit(page)  # its table: a column per test and direction's summary values
         plots = plots_of(dom)
         check(len(plots) == 1, f"kes-test {test}: one plot ({list(plots)})")
         for pid, (data, svg) in plots.items():
@@ -258,6 +309,7 @@ def test_cusick(woven, tmp):
     run([woven, "cusick", "cotton", "--spacing-cm", "2", "--out", out, "--threads", "1", "--no-render"])
     j = json.load(open(os.path.join(out, "cusick.json")))
     dom, body = dump(report(woven, out))
+    check_wall(dom, j.get("wall_time_s", 0), "cusick.json's")
     rows = dict((r[0], r[1]) for r in table_rows(dom, "cusick"))
     check(same(float(rows.get("drape_coefficient_percent", "nan")), j["drape_coefficient_percent"], 1e-5), f"the DC in the table: {rows.get('drape_coefficient_percent')}")
     nodes = table_rows(dom, "nodes")
@@ -291,6 +343,7 @@ def test_fit(woven, tmp):
     out = os.path.join(tmp, "fit")
     run([woven, "fit", "wool", "--out", out])
     dom, _ = dump(report(woven, out))
+    check_wall(dom, json.load(open(os.path.join(out, "report.json"))).get("wall_time_s", 0), "report.json's")
     plots = plots_of(dom)
     titles = [d["title"] for d, _ in plots.values()]
     check(len(plots) == 5, f"fit: five plots (three KES curves with fits, B and T): {titles}")
@@ -313,6 +366,7 @@ def test_experiment(woven, tmp):
     run([woven, "experiment", "cube", "--seeds", "1", "--grid", "5", "--out", out, "--sweep", sweep])
     j = json.load(open(os.path.join(out, "cube_results.json")))
     dom, _ = dump(report(woven, out))
+    check_wall(dom, sum(r["wall_s"] for r in j["runs"]), "the sum of its drapes' wall_s")
     stats = {r[0]: r for r in table_rows(dom, "statistics")}
     check(set(stats) == set(j["statistics"]), f"the statistics table has each fabric: {sorted(stats)}")
     for fab, s in j["statistics"].items():
@@ -331,6 +385,10 @@ def test_experiment(woven, tmp):
             fab = s["label"].split(" (")[0]
             ys = [r["energy_J"] if energy else r["folds"]["projected_area_m2"] for r in j["runs"] if r["fabric"] == fab]
             check(len(ys) == 1 and same(s["y"][0], ys[0]), f"{pid}: {fab}: {s['y']} is cube_results.json's {ys}")
+            # The colour the figure beside it gives the fabric's cloth: its file's display colour.
+            m = re.search(r"^color\s*=\s*\[([^\]]*)\]", open(os.path.join(SOURCE, "fabrics", fab + ".toml")).read(), re.M)
+            want = [math.floor(255 * float(v) + 0.5) for v in m.group(1).split(",")] if m else None  # as the page rounds (half up)
+            check(want is not None and s["color"] == want, f"{pid}: {fab} drawn in its display colour {want}: {s['color']}")
     # A changed file: a one-line error naming it (as `woven check` finds it: its size first), exit 2,
     # and the page as it was.
     page = os.path.join(out, "report.html")
@@ -423,17 +481,13 @@ def test_drape(woven, tmp):
 
 def test_garment(woven, tmp):
     # The four-gore skirt cut on the bias (grain 45 degrees) at a coarse 4 cm: four nodes.
-    source = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     out = os.path.join(tmp, "garment")
-    run([woven, "garment", os.path.join(source, "examples", "garments", "gored-skirt-bias.toml"), "--spacing", "4", "--threads", "1",
+    run([woven, "garment", os.path.join(SOURCE, "examples", "garments", "gored-skirt-bias.toml"), "--spacing", "4", "--threads", "1",
          "--width", "200", "--height", "250", "--out", out])
     j = json.load(open(os.path.join(out, "report.json")))
     dom, body = dump(report(woven, out))
-    point = table_rows(dom, "points")
-    head = re.search(r'<table class="sortable" id="points"><thead><tr>(.*?)</tr>', dom, re.S)
-    cols = re.findall(r"<th[^>]*>([^<]*)</th>", head.group(1)) if head else []
-    cell = lambda name: point[0][cols.index(name)] if point and name in cols else "nan"
-    check(same(float(cell("wall_time_s")), j["wall_time_s"], 1e-5), f"the table's wall_time_s is report.json's: {cell('wall_time_s')}")
+    cell = lambda name: points_cell(dom, name) or "nan"
+    check_wall(dom, j["wall_time_s"], "report.json's")
     check(int(cell("hem_nodes")) == j["hem"]["nodes"] and same(float(cell("flare")), j["hem"]["flare"], 1e-5),
           f"the table's hem_nodes {cell('hem_nodes')} and flare {cell('flare')} are report.json's")
     g = dict((r[0], r[1]) for r in table_rows(dom, "garment"))

@@ -254,6 +254,17 @@ ReportFolder read_experiment(const fs::path& dir, const std::vector<std::string>
         if (!problems.empty()) throw InputError(dir.string(), "", "the output folder does not verify: " + problems.front());
         p.manifest[m] = read_json(dir / m, "an experiment's manifest");
     }
+    // Its wall time: the sum of its drapes' (each run's or cell's wall_s, as the drape recorded it).
+    double wall = 0;
+    bool any = false;
+    for (const auto& m : ex)
+        for (const char* list : {"runs", "cells"})
+            for (const auto& r : p.manifest[m].value(list, nlohmann::json::array()))
+                if (r.is_object() && r.contains("wall_s") && r["wall_s"].is_number()) {
+                    wall += r["wall_s"].get<double>();
+                    any = true;
+                }
+    if (any) p.wall = wall;
     f.title = "woven experiment " + p.name;
     f.summary = "The output folder " + dir.string() + " of woven experiment (" + [&] {
         std::string l;
@@ -381,6 +392,14 @@ ReportResult report(const ReportRequest& request)
         if (!lengths.count(fabric)) lengths[fabric] = bending_length_cm(fabric).value_or(std::nan(""));
         return lengths[fabric];
     };
+    const render::FabricColour display_colour = [](const std::string& fabric) -> std::optional<Vec3> {
+        try {
+            const kes::FabricData f = io::find_fabric(fabric);
+            if (f.color) return Vec3((*f.color)[0], (*f.color)[1], (*f.color)[2]);
+        } catch (const std::exception&) {
+        }
+        return std::nullopt;
+    };
     std::ostringstream body;
     body << "<h1>" << render::html_escape(f.title) << "</h1><p>" << render::html_escape(f.summary) << "</p>";
     body << "<h2>Table</h2><p class=\"note\">Click a column's header to sort.</p>" << render::html_table(render::points_table(f.points, f.axes, f.columns), "points");
@@ -393,7 +412,7 @@ ReportResult report(const ReportRequest& request)
         if (p.status != "done") continue;
         if (f.command == "kes-test") render::kes_section(p, csv, plots, f.is_sweep ? p.name + ": " : "");
         if (f.command == "fit") render::fit_section(p, csv, fit_curves(p, notes), plots);
-        if (f.command == "experiment") sections += render::experiment_section(p, bending_length, plots);
+        if (f.command == "experiment") sections += render::experiment_section(p, bending_length, display_colour, plots);
         if (f.command == "cusick" && !f.is_sweep) sections += render::cusick_section(p, shadow_outline(p), plots);
         if (f.command == "drape" && !f.is_sweep) sections += render::drape_section(p);
         if (f.command == "garment" && !f.is_sweep) sections += render::garment_section(p, plots);

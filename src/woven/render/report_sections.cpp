@@ -456,7 +456,8 @@ std::string gallery(const std::vector<ReportPoint>& points, const std::function<
     return o.str();
 }
 
-std::string experiment_section(const ReportPoint& p, const BendingLength& bending_length, ReportPlots& plots)
+std::string experiment_section(const ReportPoint& p, const BendingLength& bending_length, const FabricColour& fabric_colour,
+                               ReportPlots& plots)
 {
     std::ostringstream o;
     for (auto it = p.manifest.begin(); it != p.manifest.end(); ++it) {
@@ -527,7 +528,8 @@ std::string experiment_section(const ReportPoint& p, const BendingLength& bendin
                 const double x = bending_length(fabric);
                 if (ys.empty() || !std::isfinite(x)) continue;
                 const auto [m, sd] = mean_std(ys);
-                Series s = series({x}, {m}, Series::Style::POINTS, std::nullopt, fabric + " (" + std::to_string(ys.size()) + (ys.size() == 1 ? " seed)" : " seeds)"));
+                Series s = series({x}, {m}, Series::Style::POINTS, fabric_colour ? fabric_colour(fabric) : std::nullopt,
+                                  fabric + " (" + std::to_string(ys.size()) + (ys.size() == 1 ? " seed)" : " seeds)"));
                 s.err = {sd};
                 plot.series.push_back(std::move(s));
             }
