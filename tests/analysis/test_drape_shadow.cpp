@@ -239,6 +239,54 @@ TEST(DrapeShadow, AParticleFarAwayNeitherTakesTheMachineNorThrows)
     EXPECT_EQ(an::shadow_row_m(star(r, 720)), 1e-4);
 }
 
+// Smaller caps (fuzz/fuzz_shadow.cpp's: each input must be quick) widen the rows sooner and keep
+// the area within a row's accuracy; the defaults are the documented ones.
+TEST(DrapeShadow, SmallerCapsWidenTheRowsSooner)
+{
+    auto r = [](double) { return 0.15; };
+    TriangleMesh m = star(r, 720);
+    const double disc = star_area(r, 720);
+    const int a = static_cast<int>(m.vertices.size());
+    m.vertices.push_back(Vec3(0, 0.15, 0.2));
+    m.vertices.push_back(Vec3(1e-3, 0.15, 0.2));
+    m.vertices.push_back(Vec3(0, 1e3, 0.2));
+    m.faces.emplace_back(a, a + 1, a + 2);
+    const an::ShadowCaps small{1 << 10, 1 << 16};
+    const double row = an::shadow_row_m(m, 1e-4, small);
+    EXPECT_NEAR(row, (1e3 + 0.15) / (1 << 10), 1e-9);  // the rows' cap decides: 0.98 m rows
+    EXPECT_EQ(an::shadow_row_m(m), (1e3 + 0.15) / static_cast<double>(an::kMaxShadowRows));  // the defaults
+    EXPECT_EQ(an::shadow_row_m(m, 1e-4, an::ShadowCaps{}), an::shadow_row_m(m));
+    // The sliver's 0.5 mm x 1 km and the disc, within two rows' width of the disc's outline.
+    EXPECT_NEAR(an::shadow_area(m, 1e-4, small), disc + 0.5, 2 * 0.3 * row + 1e-3 * (disc + 0.5));
+    // The crossings' cap: 720 faces of the disc over 0.3 m.
+    const an::ShadowCaps few_spans{an::kMaxShadowRows, 1000};
+    EXPECT_GT(an::shadow_row_m(star(r, 720), 1e-4, few_spans), 1e-4);
+    EXPECT_EQ(an::shadow_row_m(star(r, 720), 1e-4), 1e-4);
+    EXPECT_THROW(an::shadow_area(m, 1e-4, an::ShadowCaps{0, 1}), woven::InputError);
+    EXPECT_THROW(an::shadow_row_m(m, 1e-4, an::ShadowCaps{1, 0}), woven::InputError);
+}
+
+// fuzz_shadow's finding (fuzz/corpus/shadow/far-flat-triangle-row-count-overflowed.bin): a
+// triangle far from the origin with no height (y = 3.79e146 at its three corners) has rows on
+// a grid whose start rounded past it: the row count was -4.4e134 cast to long long (undefined).
+TEST(DrapeShadow, AMeshFarFromTheOriginHasRowsFromItsLowestPoint)
+{
+    for (const double at : {3.7921287488073793e146, 1e30, 1e20}) {
+        TriangleMesh flat;
+        flat.vertices = {Vec3(at, at, 0), Vec3(2 * at, at, 0), Vec3(0, at, 0)};
+        flat.faces = {Eigen::Vector3i(0, 1, 2)};
+        EXPECT_EQ(an::shadow_area(flat), 0.0) << at;
+        // A right triangle of legs L = 1e-6 at (its size a thousand ulps of its place) has
+        // area L^2 / 2 to within a few rows' (rounded) share.
+        const double L = 1e-6 * at;
+        TriangleMesh t;
+        t.vertices = {Vec3(at, at, 0), Vec3(at + L, at, 0), Vec3(at, at + L, 0)};
+        t.faces = {Eigen::Vector3i(0, 1, 2)};
+        const double area = an::shadow_area(t);
+        EXPECT_NEAR(area, 0.5 * L * L, 0.02 * L * L) << at;
+    }
+}
+
 TEST(DrapeShadow, ExtentsBeyondDoublesAndHugeRastersAreRefused)
 {
     TriangleMesh m;

@@ -1,4 +1,5 @@
 // plot: size, where the data line lands, gaps for non-finite values, empty plots, clipping.
+#include <algorithm>
 #include <cmath>
 #include <array>
 #include <cstdio>
@@ -348,4 +349,39 @@ TEST(Plot, NonFinitePointsSplitTheSvgPath)
             EXPECT_EQ(path.subpaths[1].size(), 5u);  // points 6..10
         }
     EXPECT_EQ(found, 1);
+}
+
+TEST(Plot, SvgTextIsRealText)
+{
+    Plot p = two_series();
+    p.title = "Moment & curvature <warp>";
+    p.x_label = "curvature K, 1/cm";
+    p.y_label = "moment M, gf.cm/cm";
+    const std::string svg = plot_svg(p, 700, 480, "t");
+    // No glyph outlines: cairo's text would be <symbol> glyphs drawn with <use>.
+    EXPECT_EQ(svg.find("<symbol"), std::string::npos);
+    EXPECT_EQ(svg.find("glyph"), std::string::npos);
+    std::vector<std::string> texts;
+    for (std::size_t at = 0; (at = svg.find("<text", at)) != std::string::npos;) {
+        const std::size_t open = svg.find('>', at) + 1, close = svg.find("</text>", open);
+        texts.push_back(svg.substr(open, close - open));
+        at = close;
+    }
+    const auto has = [&texts](const std::string& t) { return std::find(texts.begin(), texts.end(), t) != texts.end(); };
+    EXPECT_TRUE(has("Moment &amp; curvature &lt;warp&gt;"));  // escaped for XML
+    EXPECT_TRUE(has("curvature K, 1/cm"));
+    EXPECT_TRUE(has("moment M, gf.cm/cm"));
+    for (const auto& s : p.series)
+        if (!s.label.empty()) EXPECT_TRUE(has(s.label)) << s.label;
+    // The y label turned about its anchor, the title bold and centred on the image.
+    EXPECT_NE(svg.find("rotate(-90)\" font-size=\"13px\" text-anchor=\"middle\">moment M"), std::string::npos);
+    EXPECT_NE(svg.find("<text x=\"350.00\" y=\"22.00\" font-size=\"15px\" text-anchor=\"middle\" font-weight=\"bold\">Moment"), std::string::npos);
+    // A tick label of each axis: at least three per axis, all numbers.
+    int numbers = 0;
+    for (const auto& t : texts) {
+        char* end = nullptr;
+        std::strtod(t.c_str(), &end);
+        numbers += !t.empty() && end && *end == 0;
+    }
+    EXPECT_GE(numbers, 6);
 }

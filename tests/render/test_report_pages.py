@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """`woven report` pages opened in headless Chromium, one kind of folder per run:
 
-  test_report_pages.py KIND WOVEN     KIND: drape, cusick, kes-test, fit, experiment
+  test_report_pages.py KIND WOVEN     KIND: drape, cusick, kes-test, fit, experiment, garment
 
 Each run makes a small folder of that kind, writes its report.html, has Chromium build it
 (--dump-dom after the page's script: data-ready="1") and checks the page against the folder:
@@ -12,6 +12,7 @@ are 1/256 px). The drape
 page's 3-D view is also checked in screenshots: where the cube's top edge meets the cloth no
 cube-coloured pixel shows through the cloth, and the field legend is drawn.
 """
+import html
 import json
 import math
 import os
@@ -23,6 +24,7 @@ import sys
 import tempfile
 
 FAILURES = []
+SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def check(cond, what):
@@ -129,6 +131,11 @@ def check_plot(pid, data, svg, tol=1e-4, tol_px=0.05):
     check(f["legend_whole"], f"{pid}: the legend's text is whole (not clipped)")
     labels = [s["label"] for s in labelled]
     check(len(labels) == len(set(labels)), f"{pid}: each legend label once: {labels}")
+    # The text is SVG text (searchable, read by screen readers), not glyph outlines.
+    texts = [html.unescape(t) for t in re.findall(r"<text\b[^>]*>([^<]*)</text>", svg)]
+    want = [t for t in [data["title"], data["x_label"], data["y_label"]] + labels if t]
+    check(all(t in texts for t in want) and "<symbol" not in svg, f"{pid}: its title, axis labels and legend are <text>: missing "
+          f"{[t for t in want if t not in texts]}, glyph outlines: {'<symbol' in svg}")
     paths = svg_paths(svg)
     sx, sy = tol * (f["x_hi"] - f["x_lo"]), tol * (f["y_hi"] - f["y_lo"])
     for s in data["series"]:
@@ -202,6 +209,46 @@ def table_rows(dom, table_id):
     return [re.findall(r"<td>([^<]*)</td>", r) for r in re.findall(r"<tr[^>]*>(.*?)</tr>", t.group(1), re.S)] if t else []
 
 
+def points_cell(dom, column):
+    """The points table's cell of `column` in its first row ("" if none)."""
+    head = re.search(r'<table class="sortable" id="points"><thead><tr>(.*?)</tr>', dom, re.S)
+    cols = re.findall(r"<th[^>]*>([^<]*)</th>", head.group(1)) if head else []
+    rows = table_rows(dom, "points")
+    return rows[0][cols.index(column)] if rows and column in cols else ""
+
+
+def check_wall(dom, want, what):
+    """The page's wall_time_s (its points table) is `want` (> 0 s), to its 6 digits."""
+    cell = points_cell(dom, "wall_time_s")
+    check(cell != "" and want > 0 and same(float(cell), want, 1e-5), f"the table's wall_time_s {cell!r} is {what} ({want:.6g} s)")
+
+
+def check_tables_fit(page, width=700):
+    """Opened in a `width` px window, every table lies inside the page: a table wider than the
+    page scrolls inside its box instead of running off it (at least one does here)."""
+    measure = page[:-len(".html")] + "-measure.html"
+    script = """<script>(function(){
+      var page = document.body.getBoundingClientRect(), out = [];
+      document.querySelectorAll('table.sortable').forEach(function(t){
+        var box = t.parentElement, r = box.getBoundingClientRect();
+        out.push({id: t.id, box: box.className, right: r.right, page_right: page.right, table_w: t.scrollWidth,
+                  box_w: box.clientWidth, scroll_w: box.scrollWidth, overflow: getComputedStyle(box).overflowX});
+      });
+      document.body.dataset.tables = JSON.stringify(out);
+    })();</script>"""
+    with open(page) as f, open(measure, "w") as g:
+        g.write(f.read().replace("</body>", script + "</body>"))
+    dom = chromium([f"--window-size={width},600", "--dump-dom", "file://" + measure])
+    m = re.search(r'data-tables="([^"]*)"', dom.stdout)
+    tables = json.loads(html.unescape(m.group(1))) if m else []
+    check(tables != [], f"the page's tables were measured at {width} px ({len(tables)})")
+    outside = [t["id"] for t in tables if t["right"] > t["page_right"] + 0.5]
+    check(outside == [], f"every table's box ends inside the page at {width} px: {outside} run off")
+    wide = [t for t in tables if t["table_w"] > t["box_w"]]
+    check(wide != [] and all(t["box"] == "table-box" and t["overflow"] in ("auto", "scroll") and t["scroll_w"] > t["box_w"] for t in wide),
+          f"the tables wider than the page scroll inside their box: {[(t['id'], t['table_w'], t['box_w'], t['overflow']) for t in wide]}")
+
+
 def report(woven, folder):
     run([woven, "report", folder])
     page = os.path.join(folder, "report.html")
@@ -220,7 +267,11 @@ def test_kes(woven, tmp):
         run([woven, "kes-test", "wool", "--test", test, "--out", os.path.join(out, test), "--threads", "1"] + extra)
     for test in ("cantilever", "shear", "bending"):
         folder = os.path.join(out, test)
-        dom, _ = dump(report(woven, folder))
+        page = report(woven, folder)
+        dom, _ = dump(page)
+        check_wall(dom, json.load(open(os.path.join(folder, "kes-report.json"))).get("wall_time_s", 0), "kes-report.json's")
+        if test == "shear":
+            check_tables_fit(page)  # its table: a column per test and direction's summary values
         plots = plots_of(dom)
         check(len(plots) == 1, f"kes-test {test}: one plot ({list(plots)})")
         for pid, (data, svg) in plots.items():
@@ -258,6 +309,7 @@ def test_cusick(woven, tmp):
     run([woven, "cusick", "cotton", "--spacing-cm", "2", "--out", out, "--threads", "1", "--no-render"])
     j = json.load(open(os.path.join(out, "cusick.json")))
     dom, body = dump(report(woven, out))
+    check_wall(dom, j.get("wall_time_s", 0), "cusick.json's")
     rows = dict((r[0], r[1]) for r in table_rows(dom, "cusick"))
     check(same(float(rows.get("drape_coefficient_percent", "nan")), j["drape_coefficient_percent"], 1e-5), f"the DC in the table: {rows.get('drape_coefficient_percent')}")
     nodes = table_rows(dom, "nodes")
@@ -291,6 +343,7 @@ def test_fit(woven, tmp):
     out = os.path.join(tmp, "fit")
     run([woven, "fit", "wool", "--out", out])
     dom, _ = dump(report(woven, out))
+    check_wall(dom, json.load(open(os.path.join(out, "report.json"))).get("wall_time_s", 0), "report.json's")
     plots = plots_of(dom)
     titles = [d["title"] for d, _ in plots.values()]
     check(len(plots) == 5, f"fit: five plots (three KES curves with fits, B and T): {titles}")
@@ -313,6 +366,7 @@ def test_experiment(woven, tmp):
     run([woven, "experiment", "cube", "--seeds", "1", "--grid", "5", "--out", out, "--sweep", sweep])
     j = json.load(open(os.path.join(out, "cube_results.json")))
     dom, _ = dump(report(woven, out))
+    check_wall(dom, sum(r["wall_s"] for r in j["runs"]), "the sum of its drapes' wall_s")
     stats = {r[0]: r for r in table_rows(dom, "statistics")}
     check(set(stats) == set(j["statistics"]), f"the statistics table has each fabric: {sorted(stats)}")
     for fab, s in j["statistics"].items():
@@ -331,6 +385,10 @@ def test_experiment(woven, tmp):
             fab = s["label"].split(" (")[0]
             ys = [r["energy_J"] if energy else r["folds"]["projected_area_m2"] for r in j["runs"] if r["fabric"] == fab]
             check(len(ys) == 1 and same(s["y"][0], ys[0]), f"{pid}: {fab}: {s['y']} is cube_results.json's {ys}")
+            # The colour the figure beside it gives the fabric's cloth: its file's display colour.
+            m = re.search(r"^color\s*=\s*\[([^\]]*)\]", open(os.path.join(SOURCE, "fabrics", fab + ".toml")).read(), re.M)
+            want = [math.floor(255 * float(v) + 0.5) for v in m.group(1).split(",")] if m else None  # as the page rounds (half up)
+            check(want is not None and s["color"] == want, f"{pid}: {fab} drawn in its display colour {want}: {s['color']}")
     # A changed file: a one-line error naming it (as `woven check` finds it: its size first), exit 2,
     # and the page as it was.
     page = os.path.join(out, "report.html")
@@ -421,11 +479,79 @@ def test_drape(woven, tmp):
         check(min(ends) >= 20, f"the legend's colour bar is drawn (viridis ends: {ends} pixels, the cloth hidden)")
 
 
+def test_garment(woven, tmp):
+    # The four-gore skirt cut on the bias (grain 45 degrees) at a coarse 4 cm: four nodes.
+    out = os.path.join(tmp, "garment")
+    run([woven, "garment", os.path.join(SOURCE, "examples", "garments", "gored-skirt-bias.toml"), "--spacing", "4", "--threads", "1",
+         "--width", "200", "--height", "250", "--out", out])
+    j = json.load(open(os.path.join(out, "report.json")))
+    dom, body = dump(report(woven, out))
+    cell = lambda name: points_cell(dom, name) or "nan"
+    check_wall(dom, j["wall_time_s"], "report.json's")
+    check(int(cell("hem_nodes")) == j["hem"]["nodes"] and same(float(cell("flare")), j["hem"]["flare"], 1e-5),
+          f"the table's hem_nodes {cell('hem_nodes')} and flare {cell('flare')} are report.json's")
+    g = dict((r[0], r[1]) for r in table_rows(dom, "garment"))
+    check(g.get("fabric") == j["fabric"] and int(g.get("particles", -1)) == j["particles"] and same(float(g.get("spacing_m", "nan")), j["spacing_m"], 1e-5),
+          f"the garment's table: fabric, particles, spacing {g}")
+    pieces = table_rows(dom, "pieces")
+    check([(r[0], float(r[1]), int(r[2])) for r in pieces] == [(p["name"], p["grain_deg"], p["particles"]) for p in j["pieces"]]
+          and all(p["grain_deg"] == 45 for p in j["pieces"]), f"the pieces with their grain angles (45 deg): {pieces}")
+    hem = dict((r[0], r[1]) for r in table_rows(dom, "hem"))
+    for k in ("flare", "mean_radius_m", "below_waist_m", "length_drop_m"):
+        check(same(float(hem.get(k, "nan")), j["hem"][k], 1e-5), f"the hem's {k}: {hem.get(k)} vs {j['hem'][k]}")
+    check(int(hem.get("nodes", -1)) == j["hem"]["nodes"] == 4, f"the hem's nodes: {hem.get('nodes')} (report.json {j['hem']['nodes']}, 4 expected)")
+    angles = [float(a) for a in hem.get("node_angle_deg", "").split()]
+    check(len(angles) == len(j["hem"]["node_angle_deg"]) and all(same(a, b, 1e-5) for a, b in zip(angles, j["hem"]["node_angle_deg"])),
+          f"the nodes' angles: {angles}")
+    seams = table_rows(dom, "seams")
+    check(len(seams) == len(j["seams"]) and all(r[0] == s["name"] and int(r[1]) == s["stitches"] and same(float(r[2]), s["max_gap_m"], 1e-5)
+                                                  and same(float(r[4]), s["max_gap_over_spacing"], 1e-5) for r, s in zip(seams, j["seams"])),
+          f"the seams' gaps: {len(seams)} rows")
+    plots = plots_of(dom)
+    check(len(plots) == 2, f"two plots: the hem's radius and height per angle ({[d['title'] for d, _ in plots.values()]})")
+    h = j["hem"]
+
+    def interpolated(values, a):
+        # The hem per bin, periodic, linear between the bins beside angle a.
+        xs, n = h["angle_deg"], len(h["angle_deg"])
+        k = sum(1 for x in xs if x <= a)
+        lo, hi = (n - 1 if k == 0 else k - 1), k % n
+        a_lo, a_hi = xs[lo] - (360 if k == 0 else 0), xs[hi] + (360 if k == n else 0)
+        t = (a - a_lo) / (a_hi - a_lo)
+        return (1 - t) * values[lo] + t * values[hi]
+    for pid, (data, svg) in plots.items():
+        check_plot(pid, data, svg)
+        by = {s["label"]: s for s in data["series"]}
+        key, label = ("radius_m", "hem radius") if data["title"].startswith("Hem radius") else ("height_m", "hem height")
+        check(label in by, f"{pid}: series '{label}'")
+        if label in by:
+            check_series(pid, by[label], h["angle_deg"], h[key], f"report.json's hem angle_deg, {key} (72 bins)")
+        nodes = by.get("nodes", {"x": [], "y": [], "label": "nodes"})
+        check_series(pid, nodes, h["node_angle_deg"], [interpolated(h[key], a) for a in h["node_angle_deg"]],
+                     f"the nodes at report.json's node_angle_deg, on the line between bins")
+        if key == "radius_m":
+            w = by.get("waist radius", {"y": []})
+            check(len(w["y"]) == 2 and all(same(y, j["waist"]["radius_m"]) for y in w["y"]), f"{pid}: the waist's radius {w['y']}")
+    check(re.search(r'<img alt="garment garment.png" src="data:image/png;base64,', dom) is not None, "the gallery holds garment.png")
+    # The 3-D view: garment.glb, the cloth on the body (the dress form from waist - hip depth - 22 cm to waist + 30 cm).
+    check('data-view="webgl"' in body, "the 3-D view of garment.glb was built with WebGL")
+    boxes = json.loads(re.search(r'data-bounds="([^"]*)"', body).group(1).replace("&quot;", '"')) if "data-bounds" in body else []
+    b = j["body"]
+    lo, hi = b["waist_height_m"] - b["hip_depth_m"] - 0.22, b["waist_height_m"] + 0.30
+    check(len(boxes) == 1 and abs(boxes[0]["box"][2] - lo) < 1e-3 and abs(boxes[0]["box"][5] - hi) < 1e-3,
+          f"the view holds the body from z {lo:.3f} to {hi:.3f} m: {boxes}")
+    models = json.loads(re.search(r'<script type="application/json" id="woven-models">(.*?)</script>', dom, re.S).group(1)) if "woven-models" in dom else []
+    import base64
+    glb = open(os.path.join(out, "garment.glb"), "rb").read()
+    check(len(models) == 1 and base64.b64decode(models[0]["glb"]) == glb, "the view's model is the folder's garment.glb, byte for byte")
+
+
 def main():
     which, woven = sys.argv[1], os.path.abspath(sys.argv[2])
     tmp = tempfile.mkdtemp(prefix="woven-report-")
     try:
-        {"drape": test_drape, "cusick": test_cusick, "kes-test": test_kes, "fit": test_fit, "experiment": test_experiment}[which](woven, tmp)
+        {"drape": test_drape, "cusick": test_cusick, "kes-test": test_kes, "fit": test_fit, "experiment": test_experiment,
+         "garment": test_garment}[which](woven, tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if FAILURES:

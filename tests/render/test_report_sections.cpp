@@ -172,7 +172,9 @@ TEST(ReportSections, FitSectionAndExperimentSection)
                     {"runs", {{{"fabric", "cotton"}, {"energy_J", 1.0}}, {{"fabric", "cotton"}, {"energy_J", 3.0}}}},
                     {"statistics", {{"cotton", {{"corners", 4}, {"multiple", 1}}}}}}}};
     ReportPlots ex;
-    const std::string html = experiment_section(e, [](const std::string&) { return 2.5; }, ex);
+    const std::string html = experiment_section(
+        e, [](const std::string&) { return 2.5; }, [](const std::string& f) { return f == "cotton" ? std::optional<Vec3>(Vec3(0.8, 0.36, 0.22)) : std::nullopt; },
+        ex);
     EXPECT_NE(html.find("<td>seeds</td><td>2</td>"), std::string::npos);
     EXPECT_NE(html.find("<td>cotton</td><td>4</td><td></td><td></td><td>1</td>"), std::string::npos) << html;
     const auto data = plot_data(ex.html);
@@ -182,6 +184,7 @@ TEST(ReportSections, FitSectionAndExperimentSection)
     EXPECT_DOUBLE_EQ(s["x"][0].get<double>(), 2.5);
     EXPECT_DOUBLE_EQ(s["y"][0].get<double>(), 2.0);
     EXPECT_NEAR(s["err"][0].get<double>(), std::sqrt(2.0), 1e-12);
+    EXPECT_EQ(s["color"], json::array({204, 92, 56}));  // cotton's display colour (0.80, 0.36, 0.22) x 255, as in the figure
 }
 
 TEST(ReportSections, GalleryInlinesTheListedPictures)

@@ -115,9 +115,10 @@ void for_each_row(const std::vector<std::array<Vec2, 3>>& faces, double y0, doub
 
 }  // namespace
 
-double shadow_row_m(const geometry::TriangleMesh& mesh, double row_m)
+double shadow_row_m(const geometry::TriangleMesh& mesh, double row_m, const ShadowCaps& caps)
 {
     if (!(row_m > 0) || !std::isfinite(row_m)) throw InputError(kWhere, "row_m", "expected a positive scanline spacing in m");
+    if (caps.rows < 1 || caps.row_spans < 1) throw InputError(kWhere, "caps", "expected at least 1 row and 1 row span");
     double lo = INFINITY, hi = -INFINITY, spans = 0, xlo = INFINITY, xhi = -INFINITY;
     for (const auto& t : projected_faces(mesh)) {
         const double a = std::min({t[0].y(), t[1].y(), t[2].y()}), b = std::max({t[0].y(), t[1].y(), t[2].y()});
@@ -131,7 +132,7 @@ double shadow_row_m(const geometry::TriangleMesh& mesh, double row_m)
         throw InputError(kWhere, "mesh", "expected vertices within 1e300 m of one another");
     if (!(hi > lo)) return row_m;
     // Both caps in double: an extent of 1e300 m asks for a row of 1e293 m, not an overflow.
-    return std::max({row_m, (hi - lo) / static_cast<double>(kMaxShadowRows), spans / static_cast<double>(kMaxShadowRowSpans)});
+    return std::max({row_m, (hi - lo) / static_cast<double>(caps.rows), spans / static_cast<double>(caps.row_spans)});
 }
 
 std::size_t shadow_memory_bytes(const geometry::TriangleMesh& mesh)
@@ -141,9 +142,9 @@ std::size_t shadow_memory_bytes(const geometry::TriangleMesh& mesh)
     return mesh.faces.size() * (48 + 24 + 24 + 2 * 16);
 }
 
-double shadow_area(const geometry::TriangleMesh& mesh, double row_m)
+double shadow_area(const geometry::TriangleMesh& mesh, double row_m, const ShadowCaps& caps)
 {
-    row_m = shadow_row_m(mesh, row_m);
+    row_m = shadow_row_m(mesh, row_m, caps);
     const auto faces = projected_faces(mesh);
     if (faces.empty()) return 0.0;
     double lo = INFINITY, hi = -INFINITY;
@@ -152,8 +153,11 @@ double shadow_area(const geometry::TriangleMesh& mesh, double row_m)
             lo = std::min(lo, p.y());
             hi = std::max(hi, p.y());
         }
-    const double y0 = std::floor(lo / row_m) * row_m;
-    const long long rows = static_cast<long long>(std::min(std::ceil((hi - y0) / row_m), static_cast<double>(kMaxShadowRows))) + 1;
+    // Rows on a grid of multiples of row_m; far from the origin (lo / row_m beyond 2^53) the
+    // product may round past lo, and then the rows start at lo.
+    double y0 = std::floor(lo / row_m) * row_m;
+    if (!(y0 <= lo && lo - y0 <= row_m)) y0 = lo;
+    const long long rows = static_cast<long long>(std::clamp(std::ceil((hi - y0) / row_m), 0.0, static_cast<double>(caps.rows))) + 1;
     double length = 0;
     for_each_row(faces, y0, row_m, rows, [&](long long, const std::vector<std::pair<double, double>>& v) {
         for (const auto& iv : v) length += iv.second - iv.first;
@@ -203,9 +207,10 @@ std::vector<double> shadow_radius(const geometry::TriangleMesh& mesh, const Vec2
     const double step = kTwoPi / n;
     std::vector<double> r(n, 0.0);
     // Ray k: centre + t d_k, d_k = (sin theta_k, cos theta_k), theta from +y towards +x.
+    std::vector<Vec2> dirs(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) dirs[static_cast<std::size_t>(k)] = Vec2(std::sin(k * step), std::cos(k * step));
     auto exit_distance = [&](const std::array<Vec2, 3>& t, int k) {
-        const double th = k * step;
-        const Vec2 d(std::sin(th), std::cos(th));
+        const Vec2& d = dirs[static_cast<std::size_t>(k)];
         double best = -1;
         for (int e = 0; e < 3; ++e) {
             const Vec2 p = t[e], q = t[(e + 1) % 3];

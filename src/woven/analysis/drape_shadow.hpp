@@ -34,16 +34,23 @@ namespace woven::analysis {
 /// (shadow_row_m). Memory is then O(faces), shadow_memory_bytes, never O(extent / row).
 inline constexpr long long kMaxShadowRows = 1LL << 20;
 inline constexpr long long kMaxShadowRowSpans = 1LL << 26;
+/// The caps shadow_area applies: the defaults above; smaller ones (a fuzz harness's, which
+/// needs each input quick) widen the rows sooner. Each at least 1.
+struct ShadowCaps {
+    long long rows = kMaxShadowRows;
+    long long row_spans = kMaxShadowRowSpans;
+};
+
 /// Largest raster of rasterize_shadow (pixels): 64 MiB.
 inline constexpr long long kMaxShadowPixels = 1LL << 26;
 
 /// The scanline spacing shadow_area uses for `mesh` asked for `row_m` (m): row_m, or wider
 /// where the caps above demand it (a standard specimen at 0.1 mm is far below them: 3,000
-/// rows, some 2e5 crossings at a 0.5 cm spacing). Throws InputError if row_m <= 0.
-double shadow_row_m(const geometry::TriangleMesh& mesh, double row_m = 1e-4);
+/// rows, some 2e5 crossings at a 0.5 cm spacing). Throws InputError if row_m <= 0 or a cap < 1.
+double shadow_row_m(const geometry::TriangleMesh& mesh, double row_m = 1e-4, const ShadowCaps& caps = {});
 
 /// Estimate of the memory shadow_area, rasterize_shadow (besides its pixels) and shadow_radius
-/// (besides its n radii) use for `mesh` (bytes): about 120 bytes a face.
+/// (besides its n radii and n ray directions) use for `mesh` (bytes): about 120 bytes a face.
 std::size_t shadow_memory_bytes(const geometry::TriangleMesh& mesh);
 
 /// Area of the union of the mesh's faces projected on the xy plane (m^2). Scanlines
@@ -52,8 +59,8 @@ std::size_t shadow_memory_bytes(const geometry::TriangleMesh& mesh);
 /// the rows holding a vertex where the boundary's slope dx/dy jumps): measured 2e-6 relative,
 /// 3e-4 percentage points of drape coefficient, for a 30 cm 720-gon at the default 0.1 mm
 /// (tests/analysis/test_drape_shadow.cpp). Faces with non-finite vertices are skipped. The
-/// spacing is shadow_row_m(mesh, row_m). Throws InputError if row_m <= 0.
-double shadow_area(const geometry::TriangleMesh& mesh, double row_m = 1e-4);
+/// spacing is shadow_row_m(mesh, row_m, caps). Throws InputError if row_m <= 0 or a cap < 1.
+double shadow_area(const geometry::TriangleMesh& mesh, double row_m = 1e-4, const ShadowCaps& caps = {});
 
 /// A black-and-white raster of the shadow: pixel (c, r) covers
 /// [origin.x + c p, origin.x + (c+1) p] x [origin.y + r p, origin.y + (r+1) p], p = pixel_m;

@@ -2,6 +2,7 @@
 #include "woven/app/cusick.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -331,6 +332,7 @@ void add_run_statistics(nlohmann::json& rep, const std::vector<double>& dcs, con
 
 CusickResult cusick(const CusickRequest& request)
 {
+    const auto started = std::chrono::steady_clock::now();
     const MonitorScope monitor(request.monitor);
     // 1. Validate everything before writing anything.
     testers::CusickOptions co = cusick_options(request);
@@ -409,6 +411,7 @@ CusickResult cusick(const CusickRequest& request)
     rep["residual_tolerance"] = co.solver.residual_tolerance;
     rep["runs"] = run_list;
     if (runs > 1) add_run_statistics(rep, dcs, counts);
+    rep["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();  // the job's, its runs and pictures, to the report's writing
     io::require_finite(rep, "cusick");
     rep["files"] = set.files_json();
     set.publish("cusick.json", rep.dump(2) + "\n");

@@ -1,5 +1,6 @@
 // The fit job (woven fit FABRIC): the paper's Sec. 5.1 fit of a fabric's KES curves, and the bending and
 // trellis energy functions built from them (Sec. 5.2-5.4), as plots, CSV tables and text.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -167,6 +168,7 @@ namespace {
 
 FitResult fit_and_write(const FitRequest& request)
 {
+    const auto started = std::chrono::steady_clock::now();
     const double sigma_cm = number_in_range(request.sigma_cm, "--sigma-cm", kFitSigmaRange_cm[0], kFitSigmaRange_cm[1]);
     const std::optional<std::string> out = path_given(request.out, "--out");
     std::vector<std::string> warnings;
@@ -227,6 +229,7 @@ FitResult fit_and_write(const FitRequest& request)
     }
     nlohmann::json report = {{"version", WOVEN_VERSION}, {"command", "fit"}, {"fabric", name},
                              {"fabric_source", command_fabric_source(request.fabric, request.given_fabric)}, {"sigma_cm", sigma_cm}};
+    report["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();  // the job's, to the report's writing
     io::require_finite(report, "fit");
     report["files"] = set.files_json();
     set.publish("report.json", report.dump(2) + "\n");

@@ -244,6 +244,7 @@ nlohmann::json garment_report(const GarmentSetup& s, const GarmentRun& run)
     const model::GarmentCloth& c = s.cloth;
     const double sigma = c.grid.sigma;
     json rep;
+    rep["version"] = WOVEN_VERSION;
     rep["command"] = "garment";
     rep["garment"] = s.spec.name;
     rep["garment_file"] = s.spec.source;
@@ -370,7 +371,8 @@ nlohmann::json write_garment_outputs(const GarmentSetup& s, const GarmentRun& ru
         set.add("garment.png", render::encode_png(image, "garment.png"));
     }
     nlohmann::json rep = garment_report(s, run);
-    rep["outputs"] = set.files_json();
+    rep["outputs"] = set.names();
+    rep["files"] = set.files_json();
     set.publish("report.json", rep.dump(2) + "\n");
     return rep;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -318,6 +319,7 @@ void check_kes_request(const KesTestRequest& r)
 
 KesTestResult kes_test(const KesTestRequest& request)
 {
+    const auto started = std::chrono::steady_clock::now();
     const MonitorScope monitor(request.monitor);
     // Everything is checked before anything runs or is written: every value first, then the
     // fabric, the memory the largest specimen needs and the output folder.
@@ -371,6 +373,7 @@ KesTestResult kes_test(const KesTestRequest& request)
     for (const auto& [f, text] : k.csv) io::require_finite_csv(text, f, "kes-test");
     for (const auto& [f, text] : k.csv) set.add(f, text);
     for (const auto& [f, image] : k.png) set.add(f, render::encode_png(image, join_path(dir, f)));
+    report["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();  // the job's, to the report's writing
     report["files"] = set.files_json();
     set.publish("kes-report.json", report.dump(2) + "\n");
     result.fabric_name = k.name;

@@ -92,11 +92,11 @@ std::array<float, 3> fabric_colour(const std::string& fabric)
     return {0.70f, 0.28f, 0.16f};
 }
 
-/// The point's scene for the 3-D view: drape.glb or cusick.glb as written; for a folder from
+/// The point's scene for the 3-D view: drape.glb, cusick.glb or garment.glb as written; for a folder from
 /// before them, its drape.obj or cusick.obj as the cloth alone.
 std::optional<render::ViewModel> view_model(const PointView& p)
 {
-    for (const char* name : {"drape.glb", "cusick.glb", "drape.obj", "cusick.obj"}) {
+    for (const char* name : {"drape.glb", "cusick.glb", "garment.glb", "drape.obj", "cusick.obj"}) {
         if (!fs::exists(p.dir / name)) continue;
         render::ViewModel v;
         v.name = p.name;
@@ -254,6 +254,17 @@ ReportFolder read_experiment(const fs::path& dir, const std::vector<std::string>
         if (!problems.empty()) throw InputError(dir.string(), "", "the output folder does not verify: " + problems.front());
         p.manifest[m] = read_json(dir / m, "an experiment's manifest");
     }
+    // Its wall time: the sum of its drapes' (each run's or cell's wall_s, as the drape recorded it).
+    double wall = 0;
+    bool any = false;
+    for (const auto& m : ex)
+        for (const char* list : {"runs", "cells"})
+            for (const auto& r : p.manifest[m].value(list, nlohmann::json::array()))
+                if (r.is_object() && r.contains("wall_s") && r["wall_s"].is_number()) {
+                    wall += r["wall_s"].get<double>();
+                    any = true;
+                }
+    if (any) p.wall = wall;
     f.title = "woven experiment " + p.name;
     f.summary = "The output folder " + dir.string() + " of woven experiment (" + [&] {
         std::string l;
@@ -264,26 +275,27 @@ ReportFolder read_experiment(const fs::path& dir, const std::vector<std::string>
     return f;
 }
 
-/// An output folder of drape, cusick, kes-test or fit: one point, its set verified.
+/// An output folder of drape, cusick, kes-test, fit or garment: one point, its set verified.
 ReportFolder read_output(const fs::path& dir, const std::string& name)
 {
     ReportFolder f;
     const std::string m = manifest_name(dir);
     if (m.empty())
         throw InputError(name, "",
-                         "expected a sweep folder (sweep.json), an output folder of drape, cusick, kes-test or fit (report.json, "
+                         "expected a sweep folder (sweep.json), an output folder of drape, cusick, kes-test, fit or garment (report.json, "
                          "cusick.json or kes-report.json) or of an experiment (cube_results.json, corner_map.json, figure1.json)");
     verify(dir, "the output folder does not verify: ");
     PointView p;
     p.manifest = read_json(dir / m, "a manifest");
     f.command = m == "cusick.json" ? "cusick" : m == "kes-report.json" ? "kes-test" : p.manifest.value("command", std::string("drape"));
-    if (f.command != "drape" && f.command != "cusick" && f.command != "kes-test" && f.command != "fit")
-        throw InputError((dir / m).string(), "command", "expected the output of drape, cusick, kes-test or fit, got " + f.command);
+    if (f.command != "drape" && f.command != "cusick" && f.command != "kes-test" && f.command != "fit" && f.command != "garment")
+        throw InputError((dir / m).string(), "command", "expected the output of drape, cusick, kes-test, fit or garment, got " + f.command);
     p.name = folder_name(dir);
     p.dir = dir;
     if (p.manifest.contains("wall_time_s") && p.manifest["wall_time_s"].is_number()) p.wall = p.manifest["wall_time_s"].get<double>();
     if (p.manifest.contains("fabric")) p.values["fabric"] = p.manifest["fabric"];
     if (p.manifest.contains("scene")) p.values["scene"] = p.manifest["scene"];
+    if (p.manifest.contains("garment")) p.values["garment"] = p.manifest["garment"];
     p.outputs = f.command == "fit" ? nlohmann::json::object() : io::point_outputs(f.command, p.manifest);
     for (auto it = p.outputs.begin(); it != p.outputs.end(); ++it) f.columns.push_back(it.key());
     for (auto it = p.values.begin(); it != p.values.end(); ++it) f.axes.push_back(it.key());
@@ -380,6 +392,14 @@ ReportResult report(const ReportRequest& request)
         if (!lengths.count(fabric)) lengths[fabric] = bending_length_cm(fabric).value_or(std::nan(""));
         return lengths[fabric];
     };
+    const render::FabricColour display_colour = [](const std::string& fabric) -> std::optional<Vec3> {
+        try {
+            const kes::FabricData f = io::find_fabric(fabric);
+            if (f.color) return Vec3((*f.color)[0], (*f.color)[1], (*f.color)[2]);
+        } catch (const std::exception&) {
+        }
+        return std::nullopt;
+    };
     std::ostringstream body;
     body << "<h1>" << render::html_escape(f.title) << "</h1><p>" << render::html_escape(f.summary) << "</p>";
     body << "<h2>Table</h2><p class=\"note\">Click a column's header to sort.</p>" << render::html_table(render::points_table(f.points, f.axes, f.columns), "points");
@@ -392,9 +412,10 @@ ReportResult report(const ReportRequest& request)
         if (p.status != "done") continue;
         if (f.command == "kes-test") render::kes_section(p, csv, plots, f.is_sweep ? p.name + ": " : "");
         if (f.command == "fit") render::fit_section(p, csv, fit_curves(p, notes), plots);
-        if (f.command == "experiment") sections += render::experiment_section(p, bending_length, plots);
+        if (f.command == "experiment") sections += render::experiment_section(p, bending_length, display_colour, plots);
         if (f.command == "cusick" && !f.is_sweep) sections += render::cusick_section(p, shadow_outline(p), plots);
         if (f.command == "drape" && !f.is_sweep) sections += render::drape_section(p);
+        if (f.command == "garment" && !f.is_sweep) sections += render::garment_section(p, plots);
     }
     body << sections;
     if (plots.count > 0) body << "<h2>Plots</h2>" << notes << "<div class=\"plots\">" << plots.html << "</div>";

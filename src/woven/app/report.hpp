@@ -1,9 +1,9 @@
 #pragma once
 // The report job (woven report DIR): one self-contained DIR/report.html for a sweep folder (its sweep.json and
-// point folders) or for one output folder of drape, cusick, kes-test, fit or an experiment: the
+// point folders) or for one output folder of drape, cusick, kes-test, fit, garment or an experiment: the
 // table (sortable), a section per kind of folder with the plots its users read (render/plot's
 // cairo SVG, each with its data and axis frame), every picture inlined, and a 3-D view of each
-// drape.glb / cusick.glb (three.js and its GLTFLoader from Debian's libjs-three, inlined).
+// drape.glb / cusick.glb / garment.glb (three.js and its GLTFLoader from Debian's libjs-three, inlined).
 // Every folder is verified first (woven check's test): a broken folder is a one-line error and
 // no page.
 #include <cstddef>

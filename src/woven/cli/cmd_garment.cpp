@@ -71,7 +71,7 @@ int run_garment(const GarmentOptions& o)
                       rep["hem"]["length_drop_m"].get<double>() * 100, rep["seam_max_gap_over_spacing"].get<double>(), run.total.steps,
                       run.total.wall_time);
     std::cout << "wrote";
-    for (const auto& [name, _] : rep["outputs"].items()) std::cout << " " << join_path(out_dir, name);
+    for (const auto& name : rep["outputs"]) std::cout << " " << join_path(out_dir, name.get<std::string>());
     std::cout << " " << join_path(out_dir, "report.json") << "\n";
     if (run.interrupted || interrupt_requested()) return interrupted_exit_code();
     if (!run.total.converged) std::cerr << "woven: warning: the last stage did not converge (raise --max-steps)\n";

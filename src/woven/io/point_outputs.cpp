@@ -57,6 +57,16 @@ nlohmann::json point_outputs(const std::string& command, const nlohmann::json& m
         o["converged"] = get(m, {"converged"});
         o["steps"] = any ? nlohmann::json(steps) : nlohmann::json(nullptr);
         o["particles"] = get(m, {"particles"});
+    } else if (command == "garment") {
+        o["hem_nodes"] = get(m, {"hem", "nodes"});
+        o["flare"] = get(m, {"hem", "flare"});
+        o["below_waist_m"] = get(m, {"hem", "below_waist_m"});
+        o["length_drop_m"] = get(m, {"hem", "length_drop_m"});
+        o["seam_max_gap_over_spacing"] = get(m, {"seam_max_gap_over_spacing"});
+        o["energy_J"] = get(m, {"energy", "total_J"});
+        o["converged"] = get(m, {"converged"});
+        o["steps"] = get(m, {"steps"});
+        o["particles"] = get(m, {"particles"});
     } else {
         double worst_summary = 0, worst_curve = 0;
         int tests = 0;

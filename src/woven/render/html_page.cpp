@@ -122,7 +122,7 @@ std::string html_plot(const Plot& plot, const std::string& id, int width, int he
 std::string html_table(const HtmlTable& t, const std::string& id)
 {
     std::ostringstream o;
-    o << "<table class=\"sortable\" id=\"" << html_escape(id) << "\"><thead><tr>";
+    o << "<div class=\"table-box\"><table class=\"sortable\" id=\"" << html_escape(id) << "\"><thead><tr>";
     for (std::size_t c = 0; c < t.header.size(); ++c)
         o << "<th data-numeric=\"" << (c < t.numeric.size() && t.numeric[c] ? 1 : 0) << "\" title=\"sort\">" << html_escape(t.header[c]) << "</th>";
     o << "</tr></thead><tbody>";
@@ -131,7 +131,7 @@ std::string html_table(const HtmlTable& t, const std::string& id)
         for (const auto& cell : t.rows[r]) o << "<td>" << html_escape(cell) << "</td>";
         o << "</tr>";
     }
-    o << "</tbody></table>";
+    o << "</tbody></table></div>";
     return o.str();
 }
 
@@ -150,6 +150,7 @@ std::string script_safe(std::string_view js)
 const char* const kStyle = R"(
 body{font-family:sans-serif;margin:20px;color:#222;max-width:1400px}
 h1{font-size:22px}h2{font-size:18px;margin-top:28px;border-bottom:1px solid #ccc}
+.table-box{max-width:100%;max-height:80vh;overflow:auto;margin:4px 0}
 table.sortable{border-collapse:collapse;font-size:12px}
 table.sortable th,table.sortable td{border:1px solid #ccc;padding:3px 6px;text-align:right}
 table.sortable th{background:#eee;cursor:pointer;position:sticky;top:0}

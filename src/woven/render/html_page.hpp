@@ -28,7 +28,9 @@ std::string base64(std::string_view bytes);
 /// a reader can map the SVG's vertices back to data.
 std::string html_plot(const Plot& plot, const std::string& id, int width = 680, int height = 420);
 
-/// A table whose columns sort when their header is clicked (numerically where `numeric`).
+/// A table whose columns sort when their header is clicked (numerically where `numeric`), in a
+/// <div class="table-box"> that scrolls when the table is wider than the page (or taller than
+/// most of the window; its header stays in view).
 struct HtmlTable {
     std::vector<std::string> header;
     std::vector<bool> numeric;                  ///< per column

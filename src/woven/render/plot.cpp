@@ -290,9 +290,32 @@ Layout layout(cairo_t* cr, const Plot& plot, int W, int H)
     return inside;
 }
 
-void draw(cairo_t* cr, const Plot& plot, const Layout& L, int W, int H)
+/// A text of the SVG drawing, written as an SVG <text> element (searchable, read by screen
+/// readers) where the PNG has cairo's glyphs: its baseline's anchor point (x, y), anchored at 0
+/// (start), 0.5 (middle) or 1 (end), turned -90 degrees about it when `vertical`.
+struct SvgText {
+    std::string text;
+    double x = 0, y = 0, anchor = 0, size = 12;
+    bool bold = false, vertical = false;
+};
+
+/// Draws the plot; with `texts` its text is not drawn but listed there (plot_svg writes it).
+void draw(cairo_t* cr, const Plot& plot, const Layout& L, int W, int H, std::vector<SvgText>* texts = nullptr)
 {
     const PlotFrame& f = L.f;
+    double size = kTickSize;
+    bool bold = false;
+    const auto set_font = [&](double px, bool b = false) {
+        font(cr, px, b);
+        size = px;
+        bold = b;
+    };
+    const auto put = [&](const std::string& s, double x, double y, double anchor, bool vertical = false) {
+        if (texts)
+            texts->push_back({s, x, y, anchor, size, bold, vertical});
+        else
+            text(cr, s, x, y, anchor);
+    };
     const double aw = f.right - f.left, ah = f.bottom - f.top;
     const auto X = [&](double x) { return f.left + (x - f.x_lo) / (f.x_hi - f.x_lo) * aw; };
     const auto Y = [&](double y) { return f.bottom - (y - f.y_lo) / (f.y_hi - f.y_lo) * ah; };
@@ -325,21 +348,25 @@ void draw(cairo_t* cr, const Plot& plot, const Layout& L, int W, int H)
         cairo_line_to(cr, f.left, py);
     }
     cairo_stroke(cr);
-    font(cr, kTickSize);
-    for (double t : L.ax.ticks) text(cr, tick_label(t, L.ax.step), X(t), f.bottom + 8 + kTickSize, 0.5);
-    for (double t : L.ay.ticks) text(cr, tick_label(t, L.ay.step), f.left - 8, Y(t) + 0.36 * kTickSize, 1);
-    font(cr, kLabelSize);
-    if (!plot.x_label.empty()) text(cr, plot.x_label, 0.5 * (f.left + f.right), H - 10.0, 0.5);
+    set_font(kTickSize);
+    for (double t : L.ax.ticks) put(tick_label(t, L.ax.step), X(t), f.bottom + 8 + kTickSize, 0.5);
+    for (double t : L.ay.ticks) put(tick_label(t, L.ay.step), f.left - 8, Y(t) + 0.36 * kTickSize, 1);
+    set_font(kLabelSize);
+    if (!plot.x_label.empty()) put(plot.x_label, 0.5 * (f.left + f.right), H - 10.0, 0.5);
     if (!plot.y_label.empty()) {
-        cairo_save(cr);
-        cairo_translate(cr, 12 + kLabelSize, 0.5 * (f.top + f.bottom));
-        cairo_rotate(cr, -M_PI / 2);
-        text(cr, plot.y_label, 0, 0, 0.5);
-        cairo_restore(cr);
+        if (texts) {
+            put(plot.y_label, 12 + kLabelSize, 0.5 * (f.top + f.bottom), 0.5, true);
+        } else {
+            cairo_save(cr);
+            cairo_translate(cr, 12 + kLabelSize, 0.5 * (f.top + f.bottom));
+            cairo_rotate(cr, -M_PI / 2);
+            text(cr, plot.y_label, 0, 0, 0.5);
+            cairo_restore(cr);
+        }
     }
     if (!plot.title.empty()) {
-        font(cr, kTitleSize, true);
-        text(cr, plot.title, 0.5 * W, 22, 0.5);
+        set_font(kTitleSize, true);
+        put(plot.title, 0.5 * W, 22, 0.5);
     }
     // The data, clipped to the axes.
     cairo_save(cr);
@@ -421,7 +448,7 @@ void draw(cairo_t* cr, const Plot& plot, const Layout& L, int W, int H)
         cairo_save(cr);
         cairo_rectangle(cr, f.legend_x, f.legend_y, f.legend_w, f.legend_h);
         cairo_clip(cr);
-        font(cr, kLegendSize);
+        set_font(kLegendSize);
         double y = f.legend_y + 8 + 0.5 * L.legend_row - 2;
         for (std::size_t si = 0; si < plot.series.size(); ++si) {
             const Series& s = plot.series[si];
@@ -440,7 +467,7 @@ void draw(cairo_t* cr, const Plot& plot, const Layout& L, int W, int H)
                 cairo_fill(cr);
             }
             color(cr, ink);
-            text(cr, s.label, x + 32, y + 0.36 * kLegendSize);
+            put(s.label, x + 32, y + 0.36 * kLegendSize, 0);
             y += L.legend_row;
         }
         cairo_restore(cr);
@@ -462,6 +489,22 @@ cairo_status_t append(void* closure, const unsigned char* data, unsigned int len
 {
     static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
     return CAIRO_STATUS_SUCCESS;
+}
+
+/// `s` with & < > " escaped for XML text.
+std::string xml_escape(const std::string& s)
+{
+    std::string o;
+    for (const char c : s) {
+        switch (c) {
+        case '&': o += "&amp;"; break;
+        case '<': o += "&lt;"; break;
+        case '>': o += "&gt;"; break;
+        case '"': o += "&quot;"; break;
+        default: o += c;
+        }
+    }
+    return o;
 }
 
 /// `svg` with every id, and every reference to one, prefixed.
@@ -530,18 +573,37 @@ std::string plot_svg(const Plot& plot, int width, int height, const std::string&
 {
     const int W = clamp_side(width), H = clamp_side(height);
     std::string svg;
+    std::vector<SvgText> texts;
     {
         CairoSurface s(cairo_svg_surface_create_for_stream(append, &svg, W, H));
         cairo_svg_surface_set_document_unit(s.get(), CAIRO_SVG_UNIT_PX);
         {
             CairoContext cr(cairo_create(s.get()));
-            draw(cr.get(), plot, layout(cr.get(), plot, W, H), W, H);
+            draw(cr.get(), plot, layout(cr.get(), plot, W, H), W, H, &texts);
         }
         cairo_surface_finish(s.get());
         if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS) throw RuntimeError("plot: cairo could not write an SVG");
     }
     const std::size_t open = svg.find("<svg");
     if (open != std::string::npos) svg.erase(0, open);
+    // The text as <text> elements, last (on top, as the legend's is drawn), in the font the
+    // layout measured (DejaVu Sans; a reader without it gets its sans-serif).
+    std::string t = "<g font-family=\"DejaVu Sans, Verdana, sans-serif\" fill=\"rgb(15%,15%,15%)\">";
+    for (const SvgText& x : texts) {
+        char at[160];
+        const char* anchor = x.anchor == 0 ? "start" : x.anchor == 1 ? "end" : "middle";
+        if (x.vertical)
+            std::snprintf(at, sizeof at, "<text transform=\"translate(%.2f,%.2f) rotate(-90)\" font-size=\"%gpx\" text-anchor=\"%s\"", x.x, x.y,
+                          x.size, anchor);
+        else
+            std::snprintf(at, sizeof at, "<text x=\"%.2f\" y=\"%.2f\" font-size=\"%gpx\" text-anchor=\"%s\"", x.x, x.y, x.size, anchor);
+        t += at;
+        if (x.bold) t += " font-weight=\"bold\"";
+        t += ">" + xml_escape(x.text) + "</text>";
+    }
+    t += "</g>";
+    const std::size_t close = svg.rfind("</svg>");
+    if (close != std::string::npos) svg.insert(close, t);
     return prefix_ids(svg, id_prefix + "-");
 }
 

@@ -56,7 +56,9 @@ Image plot(const Plot& plot, int width = 800, int height = 560);
 /// The same drawing as an SVG document (no XML declaration, for inlining in HTML), its ids
 /// prefixed with `id_prefix` so that several plots can share a page. Each series' line is one
 /// <path> (a subpath per unbroken run; cairo merges the middle points of collinear runs) and its
-/// dots another (a subpath per dot), stroked or filled in its colour.
+/// dots another (a subpath per dot), stroked or filled in its colour. Its text (title, axis
+/// labels, tick labels, legend) is SVG <text> elements, not glyph outlines: searchable and read
+/// by screen readers, at the positions and sizes the PNG's glyphs have.
 std::string plot_svg(const Plot& plot, int width = 680, int height = 420, const std::string& id_prefix = "p");
 
 /// The layout plot() and plot_svg() use at that size.

@@ -219,6 +219,128 @@ std::string drape_section(const ReportPoint& p)
     return o.str();
 }
 
+std::string garment_section(const ReportPoint& p, ReportPlots& plots)
+{
+    const auto& m = p.manifest;
+    const auto obj = [&m](const char* k) { return m.contains(k) && m[k].is_object() ? m[k] : nlohmann::json::object(); };
+    const auto list = [](const nlohmann::json& j, const char* k) {
+        return j.contains(k) && j[k].is_array() ? j[k] : nlohmann::json::array();
+    };
+    const auto numbers = [&list](const nlohmann::json& j, const char* k) {
+        std::vector<double> v;
+        for (const auto& x : list(j, k)) v.push_back(number_of(x));
+        return v;
+    };
+    std::ostringstream o;
+    o << "<h2>Garment</h2>";
+    HtmlTable g;
+    g.header = {"quantity", "value"};
+    g.numeric = {false, true};
+    for (const char* k : {"garment", "fabric", "spacing_m", "particles", "converged", "interrupted", "steps", "iterations", "wall_time_s", "threads",
+                          "seam_max_gap_m", "seam_max_gap_over_spacing"})
+        if (m.contains(k)) g.rows.push_back({k, number_cell(m[k])});
+    const nlohmann::json waist = obj("waist");
+    for (auto it = waist.begin(); it != waist.end(); ++it) g.rows.push_back({"waist." + it.key(), number_cell(*it)});
+    o << html_table(g, "garment");
+
+    o << "<h2>Pieces</h2><p class=\"note\">Each piece's grain angle: the angle between the warp and its grain line (0: the "
+         "straight grain, 45: the bias).</p>";
+    HtmlTable pieces;
+    pieces.header = {"piece", "grain, deg", "particles", "area, m^2"};
+    pieces.numeric = {false, true, true, true};
+    for (const auto& pc : list(m, "pieces"))
+        if (pc.is_object())
+            pieces.rows.push_back({report_cell(pc.value("name", nlohmann::json())), number_cell(pc.value("grain_deg", nlohmann::json())),
+                                   number_cell(pc.value("particles", nlohmann::json())), number_cell(pc.value("area_m2", nlohmann::json()))});
+    o << html_table(pieces, "pieces");
+
+    const nlohmann::json hem = obj("hem");
+    o << "<h2>Hem</h2><p class=\"note\">The hem's particles from the body's axis: its nodes (peaks of the radius per 5-degree bin "
+         "of azimuth from +x), flare (mean hem radius over the waist's) and length drop (the highest bin's height minus the "
+         "lowest's).</p>";
+    HtmlTable h;
+    h.header = {"quantity", "value"};
+    h.numeric = {false, true};
+    for (const char* k : {"nodes", "flare", "mean_radius_m", "mean_height_m", "below_waist_m", "length_drop_m", "min_prominence_m", "particles"})
+        if (hem.contains(k)) h.rows.push_back({k, number_cell(hem[k])});
+    std::string angles;
+    for (const auto& a : list(hem, "node_angle_deg")) angles += (angles.empty() ? "" : " ") + number_cell(a);
+    h.rows.push_back({"node_angle_deg", angles});
+    o << html_table(h, "hem");
+
+    o << "<h2>Seams</h2><p class=\"note\">Each seam's gaps between its stitched particles at rest and the forces k d that "
+         "hold them (k: the last stage's stiffness).</p>";
+    HtmlTable seams;
+    seams.header = {"seam", "stitches", "max_gap_m", "mean_gap_m", "max_gap_over_spacing", "max_force_N", "mean_force_N"};
+    seams.numeric = {false, true, true, true, true, true, true};
+    for (const auto& sm : list(m, "seams")) {
+        if (!sm.is_object()) continue;
+        std::vector<std::string> row{report_cell(sm.value("name", nlohmann::json()))};
+        for (std::size_t c = 1; c < seams.header.size(); ++c) row.push_back(number_cell(sm.value(seams.header[c], nlohmann::json())));
+        seams.rows.push_back(std::move(row));
+    }
+    o << html_table(seams, "seams");
+
+    HtmlTable stages;
+    stages.header = {"stage", "seam_stiffness_N_m", "converged", "steps", "iterations", "wall_time_s", "energy_J", "max_residual_rel"};
+    stages.numeric = {true, true, false, true, true, true, true, true};
+    int n = 0;
+    for (const auto& st : list(m, "stages")) {
+        if (!st.is_object()) continue;
+        std::vector<std::string> row{std::to_string(++n)};
+        for (std::size_t c = 1; c < stages.header.size(); ++c) row.push_back(number_cell(st.value(stages.header[c], nlohmann::json())));
+        stages.rows.push_back(std::move(row));
+    }
+    o << "<h2>Stages of the seams' ramp</h2>" << html_table(stages, "stages");
+    if (m.contains("energy") && m["energy"].is_object()) {
+        HtmlTable e = key_table(m["energy"]);
+        e.header = {"term", "energy, J"};
+        o << "<h2>Energy</h2>" << html_table(e, "energy");
+    }
+
+    // The hem per bin of azimuth; each node at its angle, on the line between the bins beside it
+    // (periodic: past the last bin comes the first, 360 degrees on).
+    const std::vector<double> angle = numbers(hem, "angle_deg"), radius = numbers(hem, "radius_m"), height = numbers(hem, "height_m");
+    const std::vector<double> node_angle = numbers(hem, "node_angle_deg");
+    const auto at_nodes = [&](const std::vector<double>& y) {
+        Series s = series({}, {}, Series::Style::POINTS, kRed, "nodes");
+        const std::size_t n = std::min(angle.size(), y.size());
+        if (n == 0) return s;
+        for (double a : node_angle) {
+            std::size_t k = 0;  // the last bin at or before a (n - 1 before the first: wrapped)
+            while (k < n && angle[k] <= a) ++k;
+            const std::size_t lo = k == 0 ? n - 1 : k - 1, hi = k % n;
+            const double a_lo = k == 0 ? angle[lo] - 360 : angle[lo], a_hi = k == n ? angle[hi] + 360 : angle[hi];
+            const double t = a_hi > a_lo ? (a - a_lo) / (a_hi - a_lo) : 0.0;
+            s.x.push_back(a);
+            s.y.push_back((1 - t) * y[lo] + t * y[hi]);
+        }
+        return s;
+    };
+    if (!angle.empty() && !radius.empty()) {
+        Plot plot;
+        plot.title = "Hem radius from the body's axis per 5-degree bin, " + report_cell(hem.value("nodes", nlohmann::json())) + " nodes";
+        plot.x_label = "azimuth from +x towards +y, deg";
+        plot.y_label = "hem radius, m";
+        plot.series.push_back(series(angle, radius, Series::Style::LINE_AND_POINTS, kBlue, "hem radius"));
+        if (waist.contains("radius_m") && waist["radius_m"].is_number())
+            plot.series.push_back(series({0.0, 360.0}, {number_of(waist["radius_m"]), number_of(waist["radius_m"])}, Series::Style::LINE, kGrey,
+                                         "waist radius"));
+        if (!node_angle.empty()) plot.series.push_back(at_nodes(radius));
+        plots.add(plot);
+    }
+    if (!angle.empty() && !height.empty()) {
+        Plot plot;
+        plot.title = "Hem height above the floor per 5-degree bin, length drop " + report_cell(hem.value("length_drop_m", nlohmann::json())) + " m";
+        plot.x_label = "azimuth from +x towards +y, deg";
+        plot.y_label = "hem height, m";
+        plot.series.push_back(series(angle, height, Series::Style::LINE_AND_POINTS, kBlue, "hem height"));
+        if (!node_angle.empty()) plot.series.push_back(at_nodes(height));
+        plots.add(plot);
+    }
+    return o.str();
+}
+
 std::string cusick_section(const ReportPoint& p, const std::vector<double>& outline, ReportPlots& plots)
 {
     const auto& m = p.manifest;
@@ -334,7 +456,8 @@ std::string gallery(const std::vector<ReportPoint>& points, const std::function<
     return o.str();
 }
 
-std::string experiment_section(const ReportPoint& p, const BendingLength& bending_length, ReportPlots& plots)
+std::string experiment_section(const ReportPoint& p, const BendingLength& bending_length, const FabricColour& fabric_colour,
+                               ReportPlots& plots)
 {
     std::ostringstream o;
     for (auto it = p.manifest.begin(); it != p.manifest.end(); ++it) {
@@ -405,7 +528,8 @@ std::string experiment_section(const ReportPoint& p, const BendingLength& bendin
                 const double x = bending_length(fabric);
                 if (ys.empty() || !std::isfinite(x)) continue;
                 const auto [m, sd] = mean_std(ys);
-                Series s = series({x}, {m}, Series::Style::POINTS, std::nullopt, fabric + " (" + std::to_string(ys.size()) + (ys.size() == 1 ? " seed)" : " seeds)"));
+                Series s = series({x}, {m}, Series::Style::POINTS, fabric_colour ? fabric_colour(fabric) : std::nullopt,
+                                  fabric + " (" + std::to_string(ys.size()) + (ys.size() == 1 ? " seed)" : " seeds)"));
                 s.err = {sd};
                 plot.series.push_back(std::move(s));
             }

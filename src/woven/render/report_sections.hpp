@@ -49,6 +49,10 @@ struct ReportPlots {
 /// A fabric's bending length (B / W)^(1/3), cm, mean of warp and weft; NaN when unknown.
 using BendingLength = std::function<double(const std::string& fabric)>;
 
+/// A fabric's display colour (sRGB 0..1, the fabric file's `color`: the colour its cloth has in
+/// the pictures); none when it has none or cannot be read.
+using FabricColour = std::function<std::optional<Vec3>(const std::string& fabric)>;
+
 /// A JSON value as a cell: a string as it is, a float as %.6g, null empty, the rest as JSON.
 std::string report_cell(const nlohmann::json& v);
 
@@ -78,13 +82,20 @@ std::string drape_section(const ReportPoint& p);
 /// the flat specimen.
 std::string cusick_section(const ReportPoint& p, const std::vector<double>& shadow_radius, ReportPlots& plots);
 
+/// A garment folder (report.json of `woven garment`): the garment, fabric, spacing and ramp; the
+/// pieces with their grain angles; the hem (nodes, flare, length drop); each seam's gaps and
+/// forces; plots of the hem's radius and height per 5-degree bin of azimuth (nodes marked).
+std::string garment_section(const ReportPoint& p, ReportPlots& plots);
+
 /// A fit folder: `curves` and the energy functions of its CSV files.
 void fit_section(const ReportPoint& p, const CsvReader& csv, const std::vector<CurveFitView>& curves, ReportPlots& plots);
 
 /// An experiment folder (its manifests in p.manifest by file name): each as tables; for
 /// cube_results.json the corner statistics and energy and projected area against the bending
-/// length (mean +- std over the seeds).
-std::string experiment_section(const ReportPoint& p, const BendingLength& bending_length, ReportPlots& plots);
+/// length (mean +- std over the seeds), each fabric in its display colour (as in cube_figure.png;
+/// none: the plot's own cycle).
+std::string experiment_section(const ReportPoint& p, const BendingLength& bending_length, const FabricColour& fabric_colour,
+                               ReportPlots& plots);
 
 /// The PNG files the done points' manifests list, inlined (`png`: a point's file's bytes).
 std::string gallery(const std::vector<ReportPoint>& points, const std::function<std::string(const ReportPoint&, const std::string&)>& png);
