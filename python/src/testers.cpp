@@ -12,6 +12,7 @@
 #include "woven/app/kes_test.hpp"
 #include "woven/common/error.hpp"
 #include "woven/io/mesh_file.hpp"
+#include "woven/io/scene_file.hpp"
 
 namespace woven::python {
 
@@ -140,7 +141,8 @@ py::object kes_test(py::object fabric, py::object test, py::object direction, py
 py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm, py::object spacing_cm, py::object seeds, py::object seed,
                   py::object threads, py::object max_steps, py::object shear_law, py::object hysteresis, py::object protocol,
                   py::object shakes, bool render, py::object out, py::object progress, py::object bias, py::object clamp,
-                  py::object clamp_margin, py::object clamp_gap_mm, py::object start, bool search, py::object modes, py::object jobs)
+                  py::object clamp_margin, py::object clamp_gap_mm, py::object start, bool search, py::object modes, py::object jobs,
+                  py::object solver, py::object discretization, py::object fall_s, py::object thread_compression, py::object grid_rotation_deg)
 {
     const CallLock lock;  // the whole call, its arrays made after the job included (bindings.hpp, CallLock: safe at interpreter exit)
     app::CusickRequest r;
@@ -160,6 +162,11 @@ py::object cusick(py::object fabric, py::object specimen_cm, py::object disc_cm,
     r.protocol = choice_arg(protocol, "--protocol", testers::kCusickProtocolNames);
     if (const auto n = integer_arg(shakes, "--shakes", app::kCusickShakesRange[0], app::kCusickShakesRange[1])) r.shakes = static_cast<int>(*n);
     r.bias = choice_arg(bias, "--bias", model::kBiasBendingNames);
+    r.solver = choice_arg(solver, "--solver", sim::kSolverKindNames);
+    r.discretization = choice_arg(discretization, "--discretization", model::kDiscretizationNames);
+    r.fall_s = number_arg(fall_s, "--fall-s", 0, io::kMaxFallDuration_s);
+    r.thread_compression = number_arg(thread_compression, "--thread-compression", app::kThreadCompressionRange[0], app::kThreadCompressionRange[1]);
+    r.grid_rotation_deg = number_arg(grid_rotation_deg, "--grid-rotation-deg", app::kCusickGridRotationRange[0], app::kCusickGridRotationRange[1]);
     r.clamp = choice_arg(clamp, "--clamp", testers::kCusickClampNames);
     r.clamp_margin = number_arg(clamp_margin, "--clamp-margin", app::kCusickClampMarginRange[0], app::kCusickClampMarginRange[1]);
     r.clamp_gap_mm = positive_arg(clamp_gap_mm, "--clamp-gap-mm", 1e3 * testers::CusickOptions{}.solver.contact_distance);
@@ -255,15 +262,18 @@ temporary folder that is removed. progress, if given, is called with a dict abou
           py::arg("protocol") = py::none(), py::arg("shakes") = py::none(), py::arg("render") = true, py::arg("out") = py::none(),
           py::arg("progress") = py::none(), py::arg("bias") = py::none(), py::arg("clamp") = py::none(),
           py::arg("clamp_margin") = py::none(), py::arg("clamp_gap_mm") = py::none(), py::arg("start") = py::none(),
-          py::arg("search") = false, py::arg("modes") = py::none(), py::arg("jobs") = py::none(),
+          py::arg("search") = false, py::arg("modes") = py::none(), py::arg("jobs") = py::none(), py::arg("solver") = py::none(),
+          py::arg("discretization") = py::none(), py::arg("fall_s") = py::none(), py::arg("thread_compression") = py::none(),
+          py::arg("grid_rotation_deg") = py::none(),
           R"(The Cusick drape test (BS 5058, ISO 9073-9) on a simulated specimen, as `woven cusick`.
 
 fabric: a built-in name, a fabric .toml path or a woven.Fabric. Every option of the command is a
 keyword, checked as it checks it (an error names the keyword): hysteresis ("loading-branch" or
 "friction"), protocol ("release" or "lowered"), shakes, bias ("threads" or "fabric"), clamp
 ("pinned" or "discs"), clamp_margin (spacings), clamp_gap_mm, start (a cusick.obj path), search
-(True: the search of rest states), modes (with search: a list of guide counts, e.g. [3, 5, 7])
-and jobs (with search: starts run at once). Returns cusick.json as a dict:
+(True: the search of rest states), modes (with search: a list of guide counts, e.g. [3, 5, 7]),
+jobs (with search: starts run at once), solver ("fast" or "paper"), discretization
+("convergent" or "paper"), fall_s (s), thread_compression (0 to 1) and grid_rotation_deg. Returns cusick.json as a dict:
 drape_coefficient_percent, nodes, node_angles_deg, runs (one per seed), interrupted, ... The
 files (cusick.obj, shadow.png, drape.png) are written to out when given, else to a temporary
 folder that is removed; `vertices` (n, 3) float64 m and `faces` (m, 3) int32 are the draped

@@ -80,3 +80,17 @@ def test_cusick_takes_every_option_of_the_command():
                      clamp="discs")
     assert r["runs"] and 0 < r["drape_coefficient_percent"] < 100
     assert len(r["runs"][0]["states"]) >= 2  # the release and the start on 3 guides (and their continuations)
+
+
+def test_cusick_takes_the_path_and_the_threads_of_the_command():
+    # solver, discretization, fall_s, thread_compression, grid_rotation_deg: recorded in the report.
+    r = woven.cusick("cotton", spacing_cm=3, threads=1, render=False, fall_s=0.5, thread_compression=0.25,
+                     grid_rotation_deg=30)
+    assert r["solver"] == "fast" and r["discretization"] == "convergent"
+    assert r["fall_duration_s"] == 0.5 and r["thread_compression"] == 0.25 and r["grid_rotation_deg"] == 30
+    with pytest.raises(woven.InputError) as e:
+        woven.cusick("cotton", spacing_cm=3, threads=1, render=False, thread_compression=2)
+    assert str(e.value).startswith("thread_compression: "), str(e.value)
+    with pytest.raises(woven.InputError) as e:
+        woven.cusick("cotton", spacing_cm=3, threads=1, render=False, solver="newton")
+    assert str(e.value).startswith("solver: "), str(e.value)

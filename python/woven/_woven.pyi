@@ -188,7 +188,9 @@ def cusick(fabric: FabricLike, *, specimen_cm: float = 30, disc_cm: float = 18, 
            shakes: Optional[int] = None, render: bool = True, out: Optional[PathLike] = None,
            progress: Progress = None, bias: Optional[str] = None, clamp: Optional[str] = None,
            clamp_margin: Optional[float] = None, clamp_gap_mm: Optional[float] = None, start: Optional[PathLike] = None,
-           search: bool = False, modes: Optional[Sequence[int]] = None, jobs: Optional[int] = None) -> Dict[str, Any]: ...
+           search: bool = False, modes: Optional[Sequence[int]] = None, jobs: Optional[int] = None,
+           solver: Optional[str] = None, discretization: Optional[str] = None, fall_s: Optional[float] = None,
+           thread_compression: Optional[float] = None, grid_rotation_deg: Optional[float] = None) -> Dict[str, Any]: ...
 
 def fit(fabric: FabricLike, *, sigma_cm: float = 2, out: Optional[PathLike] = None) -> Dict[str, Any]: ...
 
