@@ -41,7 +41,7 @@ TEST_F(SweepCli, HelpAndBadUsage)
         {"sweep p.toml --out ''", "woven: error: command line: --out: expected a directory path, got an empty string\n"},
         {"sweep over.toml", "unknown key, ignored (an override names a key the file does not have)\n"},
         {"report nowhere", "woven: error: nowhere: no such folder\n"},
-        {"report .", "woven: error: .: expected a sweep folder (sweep.json), an output folder of drape, cusick, kes-test or fit"},
+        {"report .", "woven: error: .: expected a sweep folder (sweep.json), an output folder of drape, cusick, kes-test, fit or garment"},
     };
     for (const auto& c : cases) {
         const auto r = woven(c.args);
