@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "woven/common/error.hpp"
+#include "woven/common/units.hpp"
 #include "woven/geometry/primitives.hpp"
 
 namespace woven::testers {
@@ -32,6 +33,14 @@ constexpr int kPerturbationModes = 12;
 
 /// Uniform in [0, 1) from a mt19937_64 draw, the same on every platform.
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
+
+/// Turns each point about the z axis by `deg` degrees (counter-clockwise seen from above).
+template <class Points> void turn_about_z(Points& points, double deg)
+{
+    if (deg == 0) return;
+    const Eigen::Rotation2Dd turn(deg * units::kDegToRad);
+    for (Vec3& p : points) p.head<2>() = turn * Vec2(p.head<2>());
+}
 
 std::string num(double v)
 {
@@ -148,10 +157,7 @@ CusickSetup make_cusick_setup(const CusickOptions& o)
             for (int k = 0; k < kPerturbationModes; ++k) wave += amplitude[k] * std::cos((k + 1) * theta + phase[k]);
             c.initial[p].z() += o.perturbation_m * std::clamp((r - rd) / (R - rd), 0.0, 1.0) * wave / amplitude_sum;
         }
-    if (o.grid_rotation_deg != 0) {
-        const Eigen::Rotation2Dd turn(o.grid_rotation_deg * std::numbers::pi / 180);
-        for (Vec3& x : c.initial) x.head<2>() = turn * Vec2(x.head<2>());
-    }
+    turn_about_z(c.initial, o.grid_rotation_deg);
     return c;
 }
 
@@ -233,10 +239,7 @@ CusickResult run_cusick(const kes::FabricData& fabric, const CusickOptions& opti
     r.particles = setup.cut.count;
     // The shadow read in the threads' frame: the surface turned back by the grid's rotation.
     geometry::TriangleMesh measured = r.surface;
-    if (options.grid_rotation_deg != 0) {
-        const Eigen::Rotation2Dd back(-options.grid_rotation_deg * std::numbers::pi / 180);
-        for (Vec3& v : measured.vertices) v.head<2>() = back * Vec2(v.head<2>());
-    }
+    turn_about_z(measured.vertices, -options.grid_rotation_deg);
     r.shadow = analysis::measure_drape(measured, Vec2::Zero(), 0.5 * options.disc_diameter_m, 0.5 * options.specimen_diameter_m,
                                        setup.cut.total_area, options.shadow);
     return r;
@@ -249,7 +252,7 @@ void add_guide_rods(geometry::ObstacleSet& obstacles, const CusickOptions& optio
     const double r0 = rd + kGuideRodInset, length = (R - r0) / std::cos(slope);
     for (int k = 0; k < start.guides; ++k) {
         // Angles from the warp (+y) towards the weft (+x), as the shadow's nodes.
-        const double a = start.phase_rad + 2 * std::numbers::pi * k / start.guides - options.grid_rotation_deg * std::numbers::pi / 180;
+        const double a = start.phase_rad + 2 * std::numbers::pi * k / start.guides - options.grid_rotation_deg * units::kDegToRad;
         const Vec2 radial(std::sin(a), std::cos(a));
         const Vec3 base(r0 * radial.x(), r0 * radial.y(), disc_top_z - kGuideRodDrop);
         const Vec3 axis(std::cos(slope) * radial.x(), std::cos(slope) * radial.y(), -std::sin(slope));
@@ -294,20 +297,18 @@ CusickSearch search_cusick(const kes::FabricData& fabric, const CusickOptions& o
         CusickOptions o = options;
         o.guides = starts[k];
         out.states[k].start = starts[k];
-        const auto step = [&](const sim::StepInfo& s) {
-            if (stop) return false;
-            if (!progress) return true;
-            const std::lock_guard<std::mutex> lock(progress_mutex);
-            if (!progress(s)) stop = true;
-            return !stop.load();
+        // The front end's callback, one start at a time; false from it stops every start.
+        const auto relayed = [&](const auto& callback) {
+            return [&stop, &progress_mutex, &callback](const auto& info) {
+                if (stop) return false;
+                if (!callback) return true;
+                const std::lock_guard<std::mutex> lock(progress_mutex);
+                if (!callback(info)) stop = true;
+                return !stop.load();
+            };
         };
-        const auto newton = [&](const sim::IterationInfo& i) {
-            if (stop) return false;
-            if (!iteration) return true;
-            const std::lock_guard<std::mutex> lock(progress_mutex);
-            if (!iteration(i)) stop = true;
-            return !stop.load();
-        };
+        const sim::ProgressCallback step = relayed(progress);
+        const sim::IterationCallback newton = relayed(iteration);
         int stages = 0;
         if (starts[k].stiffer > 0) {  // the stiffer copy first, the fabric from its rest
             const CusickResult stiff = run_cusick(stiffer_in_bending(fabric, starts[k].stiffer), o, step, newton);
