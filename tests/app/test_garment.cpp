@@ -73,6 +73,10 @@ TEST(Garment, ATubeSkirtSewsClosedAndHangs)
     EXPECT_LT(rep["hem"]["below_waist_m"].get<double>(), 0.56);
     EXPECT_GT(rep["hem"]["particles"].get<int>(), 10);
     EXPECT_EQ(rep["hem"]["radius_m"].size(), 72u);
+    for (const auto& a : rep["hem"]["node_angle_deg"]) {
+        EXPECT_GE(a.get<double>(), 0.0);
+        EXPECT_LT(a.get<double>(), 360.0);
+    }
 }
 
 TEST(Garment, SeamsThatStartOpenArePulledClosedByTheRamp)

@@ -232,8 +232,9 @@ HemMeasures hem_measures(const GarmentSetup& s, const Positions& x)
     // Nodes: the periodic peaks of r(angle) standing out by a tenth of the hem's reach beyond the
     // waist (as the Cusick nodes by a tenth of the overhang), at least half a spacing.
     h.min_prominence_m = std::max(0.5 * s.cloth.grid.sigma, 0.1 * (h.mean_radius_m - s.waist_radius_m));
+    // A peak's index is refined within [0, 72): one past the last bin's centre wraps to [0, 360).
     for (const analysis::Peak& p : analysis::periodic_peaks(h.radius_m, h.min_prominence_m))
-        h.node_angle_deg.push_back((p.index + 0.5) * 360.0 / kHemBins);
+        h.node_angle_deg.push_back(std::fmod((p.index + 0.5) * 360.0 / kHemBins, 360.0));
     h.nodes = static_cast<int>(h.node_angle_deg.size());
     return h;
 }

@@ -90,7 +90,7 @@ struct HemMeasures {
     std::vector<double> radius_m;   ///< the hem's mean radius from the body's axis in each bin
     std::vector<double> height_m;   ///< its mean height in each bin
     int nodes = 0;
-    std::vector<double> node_angle_deg;
+    std::vector<double> node_angle_deg;           ///< each node's azimuth (its peak refined between bins), in [0, 360)
     double mean_radius_m = 0, flare = 0;          ///< flare: mean hem radius / waist radius
     double mean_height_m = 0, length_drop_m = 0;  ///< length drop: highest minus lowest bin of the hem
     double min_prominence_m = 0;
