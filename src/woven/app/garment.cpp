@@ -82,8 +82,8 @@ std::unique_ptr<GarmentSetup> prepare_garment(const GarmentRequest& r, std::vect
     // The pieces cut from one grid, sewn and placed.
     s.cloth = model::cut_pattern(s.spec.pattern, s.spec.spacing_m, s.spec.source);
     s.threads = choose_threads(s.spec.threads, warnings);
-    check_memory(s.cloth.grid.size(), s.threads.used, r.spacing_cm ? kCommandLine : s.spec.source,
-                 r.spacing_cm ? "--spacing" : "spacing_cm");
+    s.memory = check_memory(s.cloth.grid.size(), s.threads.used, r.spacing_cm ? kCommandLine : s.spec.source,
+                            r.spacing_cm ? "--spacing" : "spacing_cm");
 
     // The body.
     if (s.spec.body.obj) {
@@ -286,6 +286,9 @@ nlohmann::json garment_report(const GarmentSetup& s, const GarmentRun& run)
     rep["iterations"] = run.total.iterations;
     rep["wall_time_s"] = run.total.wall_time;
     rep["threads"] = s.threads.used;
+    // The resident memory (bytes) the run was estimated to need and checked against before it
+    // started: the figure a measured peak RSS is compared with.
+    rep["memory_estimate_bytes"] = std::llround(s.memory.resident_bytes);
     const model::EnergyTerms& e = run.total.energy;
     rep["energy"] = {{"gravity_J", e.gravity},
                      {"stretch_J", e.stretch},
