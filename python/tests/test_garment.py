@@ -18,6 +18,8 @@ def test_a_tube_skirt_drapes_closed_and_hangs_straight(tmp_path):
     # A tube hangs straight down: its hem as wide as its waist, within 2 %.
     assert r["hem"]["flare"] == pytest.approx(1.0, abs=0.02)
     assert r["spacing_m"] == pytest.approx(0.04)
+    # The memory the run was checked against before it started, bytes (docs/GARMENT-FORMAT.md).
+    assert isinstance(r["memory_estimate_bytes"], int) and r["memory_estimate_bytes"] > 0
     assert sorted(os.listdir(tmp_path)) == ["garment.glb", "report.json"]
 
 

@@ -15,6 +15,7 @@
 
 #include "woven/app/garment.hpp"
 #include "woven/common/error.hpp"
+#include "woven/sim/resources.hpp"
 
 using namespace woven;
 namespace fs = std::filesystem;
@@ -73,6 +74,15 @@ TEST(Garment, ATubeSkirtSewsClosedAndHangs)
     EXPECT_LT(rep["hem"]["below_waist_m"].get<double>(), 0.56);
     EXPECT_GT(rep["hem"]["particles"].get<int>(), 10);
     EXPECT_EQ(rep["hem"]["radius_m"].size(), 72u);
+    for (const auto& a : rep["hem"]["node_angle_deg"]) {
+        EXPECT_GE(a.get<double>(), 0.0);
+        EXPECT_LT(a.get<double>(), 360.0);
+    }
+    // The memory the run was checked against: the drape estimate for the whole grid and the
+    // threads used, as the memory check made it.
+    EXPECT_EQ(rep["memory_estimate_bytes"].get<long long>(),
+              std::llround(sim::estimate_drape_memory(setup->cloth.grid.size(), 1).resident_bytes));
+    EXPECT_GT(rep["memory_estimate_bytes"].get<long long>(), 0);
 }
 
 TEST(Garment, SeamsThatStartOpenArePulledClosedByTheRamp)

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Format checks of woven's outputs by independent readers (run by ctest with Debian's python3).
 
-  schemas WOVEN SCHEMA_DIR   drape, fit, cusick and kes-test outputs against docs/schemas
+  schemas WOVEN SCHEMA_DIR   drape, fit, cusick, kes-test and garment outputs against docs/schemas
                              (python3-jsonschema), and altered copies that must fail
   meshes  WOVEN              drape.ply (binary and ASCII) read by python3-meshio, drape.glb by
                              `assimp info` (assimp-utils): the vertex count and bounds of
@@ -88,6 +88,8 @@ def schemas(woven, schema_dir, work):
         return jsonschema.Draft7Validator(s)
 
     report, cusick, kes = load("report.schema.json"), load("cusick.schema.json"), load("kes-report.schema.json")
+    garment = load("garment-report.schema.json")
+    examples = os.path.join(os.path.dirname(os.path.dirname(schema_dir)), "examples", "garments")
     d = drape(woven, work, "d")
     # The cube (the paper's box): a report with its corner folds.
     run([woven, "drape", "cube", "--grid", "11", "--max-steps", "10", "--threads", "1", "--no-render", "--out", "cube"], work)
@@ -104,7 +106,13 @@ def schemas(woven, schema_dir, work):
     run([woven, "kes-test", "cotton", "--test", "bending", "--direction", "warp", "--out", "k"], work)
     # A shear loop with friction (the default): the hysteresis fields filled.
     run([woven, "kes-test", "wool", "--test", "shear", "--direction", "warp", "--sigma-cm", "1", "--out", "k2"], work)
-    cases = [(report, os.path.join(d, "report.json")), (report, os.path.join(work, "cube", "report.json")),
+    # The cheapest garment: the tube skirt (two rectangles, its seams closed from the start: one
+    # stage) at 4 cm, one thread; `woven check` reads its folder as every command's.
+    run([woven, "garment", os.path.join(examples, "tube-skirt.toml"), "--spacing", "4", "--threads", "1", "--no-render",
+         "--out", "g"], work)
+    run([woven, "check", os.path.join(work, "g")], work)
+    cases = [(garment, os.path.join(work, "g", "report.json")),
+             (report, os.path.join(d, "report.json")), (report, os.path.join(work, "cube", "report.json")),
              (report, os.path.join(work, "fit", "report.json")),
              (cusick, os.path.join(work, "c", "cusick.json")), (cusick, os.path.join(work, "c2", "cusick.json")),
              (cusick, os.path.join(work, "c3", "cusick.json")), (report, os.path.join(work, "df", "report.json")),
@@ -148,6 +156,38 @@ def schemas(woven, schema_dir, work):
     cube["folds"]["corners"].pop()
     if report.is_valid(cube):
         fail("report.schema.json accepts folds with three corners")
+    with open(os.path.join(work, "g", "report.json")) as f:
+        good = json.load(f)
+    if not good["hem"]["particles"] or len(good["hem"]["radius_m"]) != 72 or good["memory_estimate_bytes"] <= 0:
+        fail(f"the tube skirt's report has no hem or no memory estimate: {good['hem']['particles']} hem particles, "
+             f"{len(good['hem']['radius_m'])} bins, {good['memory_estimate_bytes']} bytes")
+    for change in ("negative hem nodes", "drop hem", "outputs as an object", "71 hem bins", "node at 360 deg",
+                   "drop memory estimate", "negative gap", "no flare", "unknown key", "another command", "short sha"):
+        doc = copy.deepcopy(good)
+        if change == "negative hem nodes":
+            doc["hem"]["nodes"] = -1
+        elif change == "drop hem":
+            del doc["hem"]
+        elif change == "outputs as an object":
+            doc["outputs"] = {n: True for n in doc["outputs"]}
+        elif change == "71 hem bins":
+            doc["hem"]["radius_m"].pop()
+        elif change == "node at 360 deg":
+            doc["hem"]["node_angle_deg"].append(360.0)
+        elif change == "drop memory estimate":
+            del doc["memory_estimate_bytes"]
+        elif change == "negative gap":
+            doc["seams"][0]["max_gap_m"] = -1e-3
+        elif change == "no flare":
+            doc["hem"]["flare"] = 0.0
+        elif change == "unknown key":
+            doc["hem"]["extra"] = 1
+        elif change == "another command":
+            doc["command"] = "drape"
+        else:
+            doc["files"]["garment.glb"]["sha256"] = "abc"
+        if garment.is_valid(doc):
+            fail(f"garment-report.schema.json accepts a report with '{change}'")
     print("ok: altered reports are rejected")
 
 

@@ -82,8 +82,8 @@ std::unique_ptr<GarmentSetup> prepare_garment(const GarmentRequest& r, std::vect
     // The pieces cut from one grid, sewn and placed.
     s.cloth = model::cut_pattern(s.spec.pattern, s.spec.spacing_m, s.spec.source);
     s.threads = choose_threads(s.spec.threads, warnings);
-    check_memory(s.cloth.grid.size(), s.threads.used, r.spacing_cm ? kCommandLine : s.spec.source,
-                 r.spacing_cm ? "--spacing" : "spacing_cm");
+    s.memory = check_memory(s.cloth.grid.size(), s.threads.used, r.spacing_cm ? kCommandLine : s.spec.source,
+                            r.spacing_cm ? "--spacing" : "spacing_cm");
 
     // The body.
     if (s.spec.body.obj) {
@@ -232,8 +232,9 @@ HemMeasures hem_measures(const GarmentSetup& s, const Positions& x)
     // Nodes: the periodic peaks of r(angle) standing out by a tenth of the hem's reach beyond the
     // waist (as the Cusick nodes by a tenth of the overhang), at least half a spacing.
     h.min_prominence_m = std::max(0.5 * s.cloth.grid.sigma, 0.1 * (h.mean_radius_m - s.waist_radius_m));
+    // A peak's index is refined within [0, 72): one past the last bin's centre wraps to [0, 360).
     for (const analysis::Peak& p : analysis::periodic_peaks(h.radius_m, h.min_prominence_m))
-        h.node_angle_deg.push_back((p.index + 0.5) * 360.0 / kHemBins);
+        h.node_angle_deg.push_back(std::fmod((p.index + 0.5) * 360.0 / kHemBins, 360.0));
     h.nodes = static_cast<int>(h.node_angle_deg.size());
     return h;
 }
@@ -285,6 +286,9 @@ nlohmann::json garment_report(const GarmentSetup& s, const GarmentRun& run)
     rep["iterations"] = run.total.iterations;
     rep["wall_time_s"] = run.total.wall_time;
     rep["threads"] = s.threads.used;
+    // The resident memory (bytes) the run was estimated to need and checked against before it
+    // started: the figure a measured peak RSS is compared with.
+    rep["memory_estimate_bytes"] = std::llround(s.memory.resident_bytes);
     const model::EnergyTerms& e = run.total.energy;
     rep["energy"] = {{"gravity_J", e.gravity},
                      {"stretch_J", e.stretch},

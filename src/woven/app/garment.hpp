@@ -46,6 +46,9 @@ struct GarmentSetup {
     /// every seam starts closed (gaps within half a spacing), else E_t x 0.01, 0.1, 1.
     std::vector<double> seam_stiffness;
     ThreadCount threads;
+    /// The memory the run was checked against before it started (check_memory: the grid's
+    /// particles and the threads used); report.json's memory_estimate_bytes is its resident part.
+    sim::MemoryEstimate memory;
     double waist_radius_m = 0, waist_height_m = 0;  ///< of the waist particles at the start
     /// The particles held where they start: the waist's, but for those a seam stitches (two
     /// edges' ends held apart could not close).
@@ -90,7 +93,7 @@ struct HemMeasures {
     std::vector<double> radius_m;   ///< the hem's mean radius from the body's axis in each bin
     std::vector<double> height_m;   ///< its mean height in each bin
     int nodes = 0;
-    std::vector<double> node_angle_deg;
+    std::vector<double> node_angle_deg;           ///< each node's azimuth (its peak refined between bins), in [0, 360)
     double mean_radius_m = 0, flare = 0;          ///< flare: mean hem radius / waist radius
     double mean_height_m = 0, length_drop_m = 0;  ///< length drop: highest minus lowest bin of the hem
     double min_prominence_m = 0;

@@ -36,9 +36,11 @@ ThreadCount choose_threads(int requested, std::vector<std::string>& warnings)
     return t;
 }
 
-void check_memory(long long particles, int threads, const std::string& source, const std::string& field)
+sim::MemoryEstimate check_memory(long long particles, int threads, const std::string& source, const std::string& field)
 {
-    check_memory_estimate(sim::estimate_drape_memory(particles, threads), particles, source, field, "use a smaller grid");
+    const sim::MemoryEstimate e = sim::estimate_drape_memory(particles, threads);
+    check_memory_estimate(e, particles, source, field, "use a smaller grid");
+    return e;
 }
 
 void check_memory_estimate(const sim::MemoryEstimate& e, long long particles, const std::string& source, const std::string& field,

@@ -22,8 +22,9 @@ struct ThreadCount {
 ThreadCount choose_threads(int requested, std::vector<std::string>& warnings);
 
 /// Refuses (InputError "<source>: <field>: ... needs about X GB ..., more than the Y GB of
-/// <limit>") a drape whose estimated memory exceeds the process's limit.
-void check_memory(long long particles, int threads, const std::string& source, const std::string& field);
+/// <limit>") a drape whose estimated memory exceeds the process's limit. Returns the estimate
+/// it checked (sim::estimate_drape_memory), for a report to state.
+sim::MemoryEstimate check_memory(long long particles, int threads, const std::string& source, const std::string& field);
 /// The same check for a memory estimate made elsewhere (kes-test's specimens); `advice` ends
 /// the message ("use a larger --sigma-cm").
 void check_memory_estimate(const sim::MemoryEstimate& estimate, long long particles, const std::string& source,
