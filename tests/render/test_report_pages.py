@@ -10,7 +10,8 @@ numbers, and every plotted vertex of the SVG mapped back through the plot's axis
 those data (dots within 1e-4 of the axis range, lines within 0.05 px: cairo's coordinates
 are 1/256 px). The drape
 page's 3-D view is also checked in screenshots: where the cube's top edge meets the cloth no
-cube-coloured pixel shows through the cloth, and the field legend is drawn.
+cube-coloured pixel shows through the cloth, and the field legend is drawn. Each page is also
+opened 360, 700 and 1280 px wide: it fits (no horizontal scrollbar), its plots and 3-D view scaled.
 """
 import html
 import json
@@ -249,6 +250,89 @@ def check_tables_fit(page, width=700):
           f"the tables wider than the page scroll inside their box: {[(t['id'], t['table_w'], t['box_w'], t['overflow']) for t in wide]}")
 
 
+FIT_WIDTHS = (360, 700, 1280)
+
+
+def check_page_fits(page, view3d, plots=True, widths=FIT_WIDTHS):
+    """Opened in windows `widths` px wide (phone to desktop), nothing runs off the page: no
+    horizontal scrollbar (the document no wider than the window), every plot's SVG and every
+    canvas inside the window, the plots (`plots`: the page has some) scaled whole (their aspect ratio, their text drawn) and,
+    with a 3-D view (`view3d`), its canvas not empty, its drawing buffer the size it is shown at,
+    900:560, and re-sized with its box when the window is. Headless Chromium's windows are at
+    least 500 px wide, so each width is a frame that wide in one window: one run for all."""
+    measure = page[:-len(".html")] + "-fit.html"
+    script = """<script>(function(){
+      function rect(e){ var r = e.getBoundingClientRect(); return {left: r.left, right: r.right, w: r.width, h: r.height}; }
+      function measure(){
+        var W = window.innerWidth, out = {inner: W, scroll: document.documentElement.scrollWidth, svgs: [], canvases: [], off: []};
+        document.querySelectorAll('svg').forEach(function(s){
+          if(s.parentElement.closest('svg')) return;
+          var v = s.viewBox && s.viewBox.baseVal, texts = [];
+          s.querySelectorAll('text').forEach(function(t){ texts.push([t.textContent, rect(t)]); });
+          var fig = s.closest('figure');
+          out.svgs.push({id: fig ? fig.id : '', box: rect(s), vw: v ? v.width : 0, vh: v ? v.height : 0, texts: texts});
+        });
+        document.querySelectorAll('canvas').forEach(function(c){
+          out.canvases.push({id: c.id, box: rect(c), cw: c.clientWidth, ch: c.clientHeight, bw: c.width, bh: c.height});
+        });
+        document.querySelectorAll('body *').forEach(function(e){
+          var r = e.getBoundingClientRect();
+          if(r.right > W + 0.5 && !e.closest('.table-box') && !e.closest('svg') && out.off.length < 6)
+            out.off.push(e.tagName.toLowerCase() + (e.id ? '#' + e.id : typeof e.className === 'string' && e.className ? '.' + e.className.split(' ')[0] : '') + ' ' + Math.round(r.right));
+        });
+        return out;
+      }
+      function done(){
+        var m = measure(), box = document.getElementById('view3d-box'), c = document.getElementById('view3d');
+        if(box && c){
+          box.style.width = '300px';
+          window.dispatchEvent(new Event('resize'));
+          m.resized = {cw: c.clientWidth, ch: c.clientHeight, bw: c.width, bh: c.height, dpr: window.devicePixelRatio || 1};
+        }
+        parent.postMessage(JSON.stringify(m), '*');
+      }
+      (function wait(){ document.body.dataset.ready === '1' ? done() : setTimeout(wait, 50); })();
+    })();</script>"""
+    with open(page) as f, open(measure, "w") as g:
+        g.write(f.read().replace("</body>", script + "</body>"))
+    frames = page[:-len(".html")] + "-frames.html"
+    with open(frames, "w") as g:
+        g.write('<!DOCTYPE html><html><body style="margin:0;display:flex;align-items:flex-start">' +
+                "".join(f'<iframe src="{os.path.basename(measure)}" style="width:{w}px;height:900px;border:0;flex:none"></iframe>' for w in widths) +
+                """<script>var got = [];
+                window.addEventListener('message', function(e){
+                  got.push(JSON.parse(e.data));
+                  if(got.length === %d) document.body.dataset.fit = JSON.stringify(got);
+                });</script></body></html>""" % len(widths))
+    dom = chromium([f"--window-size={sum(widths) + 40},900", "--dump-dom", "file://" + frames])
+    m = re.search(r'data-fit="([^"]*)"', dom.stdout)
+    got = {f["inner"]: f for f in json.loads(html.unescape(m.group(1)))} if m else {}
+    check(sorted(got) == sorted(widths), f"the page was measured in windows {sorted(got)} px wide ({list(widths)} wanted)")
+    for width in widths:
+        fit = got.get(width)
+        if fit is None:
+            continue
+        W = width
+        check(fit["scroll"] <= W, f"{width} px: no horizontal scrollbar: the document is {fit['scroll']} px wide in {W} px (past it: {fit['off']})")
+        svgs, canvases = fit["svgs"], fit["canvases"]
+        check((svgs != []) == plots and all(s["box"]["right"] <= W + 0.5 and s["box"]["left"] >= -0.5 for s in svgs),
+              f"{width} px: every SVG inside the window: {[(s['id'], round(s['box']['left']), round(s['box']['right'])) for s in svgs]}")
+        check(all(c["box"]["right"] <= W + 0.5 for c in canvases),
+              f"{width} px: every canvas inside the window: {[(c['id'], round(c['box']['right'])) for c in canvases]}")
+        # Scaled whole: the viewBox's aspect ratio, every label drawn (non-empty, inside its plot).
+        bad = [s["id"] for s in svgs if not (s["vw"] > 0 and s["box"]["w"] > 0 and abs(s["box"]["h"] / s["box"]["w"] - s["vh"] / s["vw"]) < 0.01 * s["vh"] / s["vw"])]
+        check(bad == [], f"{width} px: each plot keeps its aspect ratio (viewBox): {bad} do not")
+        bad = [s["id"] for s in svgs if len(s["texts"]) < 3 or not all(t and r["w"] > 0 and r["h"] > 0 and r["left"] >= s["box"]["left"] - 1
+                                                                        and r["right"] <= s["box"]["right"] + 1 for t, r in s["texts"])]
+        check(bad == [], f"{width} px: each plot's text is there, drawn inside it ({[len(s['texts']) for s in svgs]} texts): {bad} not")
+        if view3d:
+            v = next((c for c in canvases if c["id"] == "view3d"), None)
+            check(v is not None and v["cw"] > 0 and v["ch"] > 0 and abs(v["cw"] / v["ch"] - 900 / 560) < 0.02 and v["bw"] == v["cw"] and v["bh"] == v["ch"],
+                  f"{width} px: the 3-D view's canvas {v and (v['cw'], v['ch'])} px, 900:560, its drawing buffer {v and (v['bw'], v['bh'])} the same")
+            r = fit.get("resized")
+            check(r is not None and abs(r["cw"] - 298) <= 1 and abs(r["cw"] / r["ch"] - 900 / 560) < 0.02 and r["bw"] == round(r["cw"] * r["dpr"])
+                  and r["bh"] == round(r["ch"] * r["dpr"]), f"{width} px: its box made 300 px wide, the window's resize re-sizes the canvas and its buffer: {r}")
+
 def report(woven, folder):
     run([woven, "report", folder])
     page = os.path.join(folder, "report.html")
@@ -272,6 +356,7 @@ def test_kes(woven, tmp):
         check_wall(dom, json.load(open(os.path.join(folder, "kes-report.json"))).get("wall_time_s", 0), "kes-report.json's")
         if test == "shear":
             check_tables_fit(page)  # its table: a column per test and direction's summary values
+            check_page_fits(page, False)
         plots = plots_of(dom)
         check(len(plots) == 1, f"kes-test {test}: one plot ({list(plots)})")
         for pid, (data, svg) in plots.items():
@@ -308,7 +393,8 @@ def test_cusick(woven, tmp):
     out = os.path.join(tmp, "cusick")
     run([woven, "cusick", "cotton", "--spacing-cm", "2", "--out", out, "--threads", "1", "--no-render"])
     j = json.load(open(os.path.join(out, "cusick.json")))
-    dom, body = dump(report(woven, out))
+    page = report(woven, out)
+    dom, body = dump(page)
     check_wall(dom, j.get("wall_time_s", 0), "cusick.json's")
     rows = dict((r[0], r[1]) for r in table_rows(dom, "cusick"))
     check(same(float(rows.get("drape_coefficient_percent", "nan")), j["drape_coefficient_percent"], 1e-5), f"the DC in the table: {rows.get('drape_coefficient_percent')}")
@@ -337,13 +423,16 @@ def test_cusick(woven, tmp):
         ppy = (f["bottom"] - f["top"]) / (f["y_hi"] - f["y_lo"])
         check(abs(ppx / ppy - 1) < 1e-9, f"{pid}: equal scales on x and y ({ppx:.2f}, {ppy:.2f} px/m)")
     check('data-view="webgl"' in body, "the 3-D view of cusick.glb was built")
+    check_page_fits(page, True)
 
 
 def test_fit(woven, tmp):
     out = os.path.join(tmp, "fit")
     run([woven, "fit", "wool", "--out", out])
-    dom, _ = dump(report(woven, out))
+    page = report(woven, out)
+    dom, _ = dump(page)
     check_wall(dom, json.load(open(os.path.join(out, "report.json"))).get("wall_time_s", 0), "report.json's")
+    check_page_fits(page, False)
     plots = plots_of(dom)
     titles = [d["title"] for d, _ in plots.values()]
     check(len(plots) == 5, f"fit: five plots (three KES curves with fits, B and T): {titles}")
@@ -365,8 +454,10 @@ def test_experiment(woven, tmp):
     out, sweep = os.path.join(tmp, "exp"), os.path.join(tmp, "exp-sweep")
     run([woven, "experiment", "cube", "--seeds", "1", "--grid", "5", "--out", out, "--sweep", sweep])
     j = json.load(open(os.path.join(out, "cube_results.json")))
-    dom, _ = dump(report(woven, out))
+    page = report(woven, out)
+    dom, body = dump(page)
     check_wall(dom, sum(r["wall_s"] for r in j["runs"]), "the sum of its drapes' wall_s")
+    check_page_fits(page, 'data-view="webgl"' in body)
     stats = {r[0]: r for r in table_rows(dom, "statistics")}
     check(set(stats) == set(j["statistics"]), f"the statistics table has each fabric: {sorted(stats)}")
     for fab, s in j["statistics"].items():
@@ -426,6 +517,7 @@ def test_drape(woven, tmp):
     want = [(c["corner"], b) for c in j["folds"]["corners"] for b in c["billows"]]
     check([(int(r[0]), int(r[2])) for r in folds] == want, f"the folds table: corners and billows {want}")
     check('data-view="webgl"' in body, "the 3-D view was built with WebGL")
+    check_page_fits(page, True, plots=False)
     boxes = json.loads(re.search(r'data-bounds="([^"]*)"', body).group(1).replace("&quot;", '"')) if "data-bounds" in body else []
     box = next((b for b in boxes if "box" in b["name"]), None)
     check(box is not None, f"the page reports the cube's bounds: {[b['name'] for b in boxes]}")
@@ -485,7 +577,8 @@ def test_garment(woven, tmp):
     run([woven, "garment", os.path.join(SOURCE, "examples", "garments", "gored-skirt-bias.toml"), "--spacing", "4", "--threads", "1",
          "--width", "200", "--height", "250", "--out", out])
     j = json.load(open(os.path.join(out, "report.json")))
-    dom, body = dump(report(woven, out))
+    page = report(woven, out)
+    dom, body = dump(page)
     cell = lambda name: points_cell(dom, name) or "nan"
     check_wall(dom, j["wall_time_s"], "report.json's")
     check(int(cell("hem_nodes")) == j["hem"]["nodes"] and same(float(cell("flare")), j["hem"]["flare"], 1e-5),
@@ -535,6 +628,7 @@ def test_garment(woven, tmp):
     check(re.search(r'<img alt="garment garment.png" src="data:image/png;base64,', dom) is not None, "the gallery holds garment.png")
     # The 3-D view: garment.glb, the cloth on the body (the dress form from waist - hip depth - 22 cm to waist + 30 cm).
     check('data-view="webgl"' in body, "the 3-D view of garment.glb was built with WebGL")
+    check_page_fits(page, True)
     boxes = json.loads(re.search(r'data-bounds="([^"]*)"', body).group(1).replace("&quot;", '"')) if "data-bounds" in body else []
     b = j["body"]
     lo, hi = b["waist_height_m"] - b["hip_depth_m"] - 0.22, b["waist_height_m"] + 0.30

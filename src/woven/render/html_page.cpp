@@ -148,25 +148,29 @@ std::string script_safe(std::string_view js)
 }
 
 const char* const kStyle = R"(
-body{font-family:sans-serif;margin:20px;color:#222;max-width:1400px}
+body{font-family:sans-serif;margin:20px;color:#222;max-width:1400px;overflow-wrap:break-word}
+@media (max-width:600px){body{margin:10px}}
 h1{font-size:22px}h2{font-size:18px;margin-top:28px;border-bottom:1px solid #ccc}
+h1,figcaption,.note{overflow-wrap:anywhere}
+img,figure{max-width:100%}
+select{max-width:100%}
 .table-box{max-width:100%;max-height:80vh;overflow:auto;margin:4px 0}
-table.sortable{border-collapse:collapse;font-size:12px}
+table.sortable{border-collapse:collapse;font-size:12px;overflow-wrap:normal}
 table.sortable th,table.sortable td{border:1px solid #ccc;padding:3px 6px;text-align:right}
 table.sortable th{background:#eee;cursor:pointer;position:sticky;top:0}
 table.sortable th.asc:after{content:" \25B2"}table.sortable th.desc:after{content:" \25BC"}
 table.sortable td:first-child{text-align:left}
 tr.failed td{background:#fdd}tr.missing td{background:#eee;color:#888}
 .plots{display:flex;flex-wrap:wrap;gap:12px}
-figure.plot{margin:0}figure.plot svg{display:block}
+figure.plot{margin:0;min-width:0}figure.plot svg{display:block;max-width:100%;height:auto}
 .gallery{display:flex;flex-wrap:wrap;gap:10px}
-.gallery figure{margin:0;border:1px solid #ddd;padding:4px;font-size:11px;max-width:260px}
-.gallery img{width:250px;display:block}
-#view3d-box{position:relative;width:900px;height:560px}
+.gallery figure{margin:0;border:1px solid #ddd;padding:4px;font-size:11px;max-width:260px;min-width:0;box-sizing:border-box}
+.gallery img{width:250px;max-width:100%;height:auto;display:block}
+#view3d-box{position:relative;width:902px;max-width:100%}
 body.view-only{margin:0}body.view-only>:not(#view3d-box){display:none}
-#view3d{width:900px;height:560px;border:1px solid #ccc;background:#f4f4f4;display:block}
-#view3d-legend{position:absolute;right:12px;top:12px;background:rgba(255,255,255,0.9);border:1px solid #bbb;padding:6px 8px;font-size:12px;display:none}
-#view3d-legend canvas{display:block;width:200px;height:14px;margin:4px 0}
+#view3d{width:100%;height:auto;aspect-ratio:902/562;box-sizing:border-box;border:1px solid #ccc;background:#f4f4f4;display:block}
+#view3d-legend{position:absolute;right:14px;top:12px;max-width:calc(100% - 46px);background:rgba(255,255,255,0.9);border:1px solid #bbb;padding:6px 8px;font-size:12px;display:none}
+#view3d-legend canvas{display:block;width:200px;max-width:100%;height:14px;margin:4px 0}
 #view3d-legend .ends{display:flex;justify-content:space-between;gap:16px}
 .note{color:#666;font-size:12px}
 )";
@@ -235,6 +239,18 @@ const char* const kScript = R"(
       var controls = new THREE.OrbitControls(camera, canvas);
       var render = function(){ renderer.render(scene, camera); };
       controls.addEventListener('change', render);
+      // The canvas takes its box's width (at most 900 px, 900:560 by the style): its drawing
+      // buffer and the camera follow it when the window (or the box) changes size.
+      var resize = function(){
+        var w = canvas.clientWidth, h = canvas.clientHeight;
+        if(!w || !h || (w === canvas.width / renderer.getPixelRatio() && h === canvas.height / renderer.getPixelRatio())) return;
+        renderer.setSize(w, h, false);
+        camera.aspect = w / h;
+        camera.updateProjectionMatrix();
+        render();
+      };
+      window.addEventListener('resize', resize);
+      if(window.ResizeObserver) new ResizeObserver(resize).observe(canvas);
       var current = null, cloth = null, fields = {};
       var pickField = document.getElementById('view3d-field'), legend = document.getElementById('view3d-legend');
       var hidden = (params.get('hide') || '').split(',').filter(function(h){ return h; });
@@ -369,7 +385,7 @@ const char* const kScript = R"(
 std::string html_page(const std::string& title, const std::string& body, const std::vector<ViewModel>& models, const ViewScripts& scripts)
 {
     std::ostringstream o;
-    o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" << html_escape(title) << "</title><style>" << kStyle
+    o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>" << html_escape(title) << "</title><style>" << kStyle
       << "</style></head><body data-ready=\"0\">\n";
     o << body;
     if (!models.empty()) {

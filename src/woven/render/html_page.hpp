@@ -25,7 +25,8 @@ std::string base64(std::string_view bytes);
 /// shows: {"id", "title", "x_label", "y_label", "frame": {x_lo, x_hi, y_lo, y_hi, left, top,
 /// right, bottom, legend: [x, y, w, h], legend_whole, width, height}, "series": [{label, color: [r, g, b]
 /// 0..255, style: line|points|line_and_points, x, y, err}]} (non-finite numbers as null), so that
-/// a reader can map the SVG's vertices back to data.
+/// a reader can map the SVG's vertices back to data. The SVG keeps its `width` x `height` px in a
+/// wide page and shrinks to a narrower one (its viewBox, the page's style).
 std::string html_plot(const Plot& plot, const std::string& id, int width = 680, int height = 420);
 
 /// A table whose columns sort when their header is clicked (numerically where `numeric`), in a

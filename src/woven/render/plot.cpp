@@ -586,6 +586,10 @@ std::string plot_svg(const Plot& plot, int width, int height, const std::string&
     }
     const std::size_t open = svg.find("<svg");
     if (open != std::string::npos) svg.erase(0, open);
+    // A viewBox, which a page needs to scale the plot to its width (cairo writes one; kept if so).
+    const std::size_t head = svg.find('>');
+    if (open != std::string::npos && head != std::string::npos && svg.substr(0, head).find("viewBox") == std::string::npos)
+        svg.insert(4, " viewBox=\"0 0 " + std::to_string(W) + " " + std::to_string(H) + "\"");
     // The text as <text> elements, last (on top, as the legend's is drawn), in the font the
     // layout measured (DejaVu Sans; a reader without it gets its sans-serif).
     std::string t = "<g font-family=\"DejaVu Sans, Verdana, sans-serif\" fill=\"rgb(15%,15%,15%)\">";
