@@ -1,7 +1,8 @@
 // `woven garment` as the application floor runs it (app/garment.hpp): a tube skirt sewn and
 // draped at a coarse spacing with its seams closed at rest (gap below a tenth of the spacing)
-// and its hem measured; a piece that starts inside the body and a seam through the body
-// refused with one line naming the field.
+// and its hem measured; the examples' pieces start apart where no seam joins them (a seam's
+// corner particles sewn); a piece that starts inside the body, pieces placed on each other and
+// a seam through the body refused with one line naming the field.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -15,6 +16,7 @@
 
 #include "woven/app/garment.hpp"
 #include "woven/common/error.hpp"
+#include "woven/model/cloth_model.hpp"
 #include "woven/sim/resources.hpp"
 
 using namespace woven;
@@ -144,6 +146,59 @@ TEST(Garment, ASeamThroughTheBodyIsRefused)
     } catch (const InputError& e) {
         EXPECT_EQ(e.field(), "seam[1]");
         EXPECT_NE(std::string(e.what()).find("the seam 'front.right + back.right' crosses the body"), std::string::npos) << e.what();
+    }
+}
+
+// The circular skirt at 1 cm put a particle on each half circle's hem corner, (+-57, 0) cm: the
+// front's was on its hem only (the nearer segment by round-off), the back's on its side, so the
+// two started on each other unsewn and repelled (158,407 J of repulsion at the start; the fall
+// stalled and the skirt settled by static steps, 912 s). A corner particle is on both segments.
+TEST(Garment, TheExamplesPiecesStartApartWhereNoSeamJoinsThem)
+{
+    std::vector<std::string> warnings;
+    app::GarmentRequest r;
+    for (const auto& [name, spacing_cm] : {std::pair<std::string, double>{"circular-skirt.toml", 1.0}, {"tube-skirt.toml", 1.5}}) {
+        r.file = std::string(WOVEN_SOURCE_DIR) + "/examples/garments/" + name;
+        r.spacing_cm = spacing_cm;
+        const auto setup = app::prepare_garment(r, warnings);
+        const model::GarmentCloth& c = setup->cloth;
+        // No pair that repels starts closer than a spacing (at 1.5 cm the tube's waist corners
+        // started 0.31 cm apart before the seams' ends were left unrepelled).
+        EXPECT_TRUE(setup->model->close_pairs(c.start, 0.99 * c.grid.sigma).empty()) << name;
+        EXPECT_LT(setup->model->evaluate(c.start).repulsion, 1e-9) << name;  // J; gravity 0.4 J
+    }
+    // The front's hem corner (-57, 0) cm is on its hem and on its left side, so sewn.
+    r.file = std::string(WOVEN_SOURCE_DIR) + "/examples/garments/circular-skirt.toml";
+    r.spacing_cm = 1.0;
+    const auto setup = app::prepare_garment(r, warnings);
+    const model::GarmentCloth& c = setup->cloth;
+    int corner = -1;
+    for (int p = 0; p < c.grid.size(); ++p)
+        if (c.active[p] && c.piece_of[p] == 0 && (c.piece_point[p] - Vec2(-0.57, 0.0)).norm() < 1e-9) corner = p;
+    ASSERT_GE(corner, 0);
+    auto on = [&](int segment) {
+        const std::vector<int>& e = c.edges[0][segment].particles;
+        return std::find(e.begin(), e.end(), corner) != e.end();
+    };
+    EXPECT_TRUE(on(0));  // hem
+    EXPECT_TRUE(on(3));  // left, sewn to the back's right
+    EXPECT_TRUE(std::any_of(c.seams.stitches.begin(), c.seams.stitches.end(), [&](const model::Stitch& st) { return st.p == corner; }));
+}
+
+TEST(Garment, PiecesPlacedOnEachOtherAreRefused)
+{
+    std::vector<std::string> warnings;
+    app::GarmentRequest r;
+    // The back placed where the front is.
+    r.file = written(replaced(example("tube-skirt.toml"), "azimuth_deg = 90", "azimuth_deg = -90"));
+    try {
+        (void)app::prepare_garment(r, warnings);
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        EXPECT_EQ(e.field(), "piece[2].place");
+        EXPECT_NE(m.find("pieces 'front' and 'back' overlap"), std::string::npos) << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos);
     }
 }
 

@@ -12,6 +12,10 @@ namespace woven::model {
 
 namespace {
 
+/// A particle within this many spacings of two segments is on both: at their corner (on both
+/// outlines to round-off).
+constexpr double kCornerTie = 1e-6;
+
 Vec2 rotate(const Vec2& v, double angle)
 {
     const double c = std::cos(angle), s = std::sin(angle);
@@ -183,7 +187,8 @@ GarmentCloth cut_pattern(const Pattern& pattern, double sigma, const std::string
     }
 
     // 3. The edge particles of each segment: kept particles with a thread neighbour dropped,
-    // each on the segment nearest it (within a spacing).
+    // each on the segment nearest it (within a spacing); a particle on a corner (within kCornerTie
+    // of a spacing of two segments) is on both, so a seam sews its ends too.
     g.edges.resize(pieces);
     for (int k = 0; k < pieces; ++k) g.edges[k].resize(pattern.pieces[k].segments.size());
     for (int p = 0; p < n; ++p) {
@@ -193,21 +198,19 @@ GarmentCloth cut_pattern(const Pattern& pattern, double sigma, const std::string
             || !g.active[p - grid.nu] || !g.active[p + grid.nu];
         if (!edge) continue;
         const PatternPiece& piece = pattern.pieces[g.piece_of[p]];
-        int best = -1;
-        double best_d = 1.0001 * sigma, best_s = 0;
-        for (std::size_t m = 0; m < piece.segments.size(); ++m) {
-            double d = 0;
-            const double s = piece.segments[m].project(g.piece_point[p], &d);
-            if (d < best_d) {
-                best = static_cast<int>(m);
-                best_d = d;
-                best_s = s;
+        std::vector<double> d(piece.segments.size()), s(piece.segments.size());
+        for (std::size_t m = 0; m < piece.segments.size(); ++m) s[m] = piece.segments[m].project(g.piece_point[p], &d[m]);
+        const double nearest = *std::min_element(d.begin(), d.end());
+        if (!(nearest < 1.0001 * sigma)) continue;
+        const double tie = nearest < kCornerTie * sigma ? kCornerTie * sigma : 0.0;  // on the outline, at a corner
+        bool placed = false;
+        for (std::size_t m = 0; m < piece.segments.size() && !placed; ++m)
+            if (d[m] <= nearest + tie) {
+                placed = tie == 0.0;  // off the outline: the nearest only (the first of equals)
+                EdgeParticles& e = g.edges[g.piece_of[p]][m];
+                e.particles.push_back(p);
+                e.s.push_back(s[m]);
             }
-        }
-        if (best < 0) continue;
-        EdgeParticles& e = g.edges[g.piece_of[p]][best];
-        e.particles.push_back(p);
-        e.s.push_back(best_s);
     }
     for (auto& piece_edges : g.edges)
         for (EdgeParticles& e : piece_edges) {
@@ -266,6 +269,23 @@ GarmentCloth cut_pattern(const Pattern& pattern, double sigma, const std::string
 
     // 4. The seams: each particle of either edge stitched to the other edge at its fraction of
     // the length; the pairs of the two edges within 1.5 spacings of each other are not repelled.
+    std::vector<char> cut_edge(n, 0);
+    for (const auto& piece_edges : g.edges)
+        for (const EdgeParticles& e : piece_edges)
+            for (int p : e.particles) cut_edge[p] = 1;
+    // (fraction of the segment's length, particle) of the cut-edge particles within a spacing of it.
+    auto near_segment = [&](int k, int m, bool reversed) {
+        const OutlineSegment& seg = pattern.pieces[k].segments[m];
+        const double L = seg.length();
+        std::vector<std::pair<double, int>> out;
+        for (int p = 0; p < n; ++p) {
+            if (!cut_edge[p] || g.piece_of[p] != k) continue;
+            double d = 0;
+            const double t = seg.project(g.piece_point[p], &d) / L;
+            if (d < 1.0001 * sigma) out.push_back({reversed ? 1.0 - t : t, p});
+        }
+        return out;
+    };
     for (int m = 0; m < static_cast<int>(pattern.seams.size()); ++m) {
         const PatternSeam& seam = pattern.seams[m];
         const std::string field = strf("seam[%d]", m + 1);
@@ -322,11 +342,14 @@ GarmentCloth cut_pattern(const Pattern& pattern, double sigma, const std::string
             const Bracket br = bracket(ta, tb[b]);
             stitch(B, b_order[b], A, br.k1, br.k2, br.w);
         }
+        // Not repelled: the cut-edge particles within a spacing of either segment (those nearer
+        // another segment at a seam's end too), pairs within 1.5 spacings along the seam.
         const double length = 0.5 * (La + Lb);
-        for (std::size_t a = 0; a < ta.size(); ++a)
-            for (std::size_t b = 0; b < tb.size(); ++b)
-                if (std::abs(ta[a] - tb[b]) * length < 1.5 * sigma && A.particles[a] != b_particles[b])
-                    g.seams.unrepelled.push_back({std::min(A.particles[a], b_particles[b]), std::max(A.particles[a], b_particles[b])});
+        const std::vector<std::pair<double, int>> near_a = near_segment(seam.piece_a, seam.segment_a, false);
+        const std::vector<std::pair<double, int>> near_b = near_segment(seam.piece_b, seam.segment_b, seam.reversed);
+        for (const auto& [t, a] : near_a)
+            for (const auto& [u, b] : near_b)
+                if (std::abs(t - u) * length < 1.5 * sigma && a != b) g.seams.unrepelled.push_back({std::min(a, b), std::max(a, b)});
     }
     std::sort(g.seams.unrepelled.begin(), g.seams.unrepelled.end());
     g.seams.unrepelled.erase(std::unique(g.seams.unrepelled.begin(), g.seams.unrepelled.end()), g.seams.unrepelled.end());
