@@ -61,7 +61,8 @@ def main(argv):
         disagree += ours != hem["nodes"]
         row = [os.path.basename(os.path.dirname(os.path.abspath(path))), f"{100 * rep['spacing_m']:g}", f"{100 * reach:.1f}",
                str(hem["nodes"]), str(ours)]
-        row += [str(periodic_peak_count(r, f * reach)) for f in FRACTIONS]
+        # No reach (a tube hanging straight): a fraction of it is no threshold.
+        row += [str(periodic_peak_count(r, f * reach)) if reach > 0 else "-" for f in FRACTIONS]
         row += [str(periodic_peak_count(r, mm * 1e-3)) for mm in FIXED_MM]
         print("| " + " | ".join(row) + " |")
     if disagree:
