@@ -338,3 +338,20 @@ def test_cusick_writes_a_glb_of_its_specimen(tmp_path):
     assert len(f) > 100 and extras["holds"].startswith("display surface: ")
     code, out, err = woven("check", "c", cwd=tmp_path)
     assert code == 0, err
+
+
+@pytest.mark.parametrize("change, error", [
+    (("radius_cm = 17", "radius_cm = 12"), "piece[1].place: piece 'front' starts inside the body"),
+    (("azimuth_deg = 90", "azimuth_deg = -90"), "piece[2].place: pieces 'front' and 'back' overlap"),
+    (('b = "back.left"', 'b = "back.right"'), "seam[1]: the seam 'front.right + back.right' crosses the body"),
+])
+def test_a_garment_that_cannot_start_is_one_line_and_exit_2_with_nothing_written(tmp_path, change, error):
+    with open(os.path.join(SOURCE_DIR, "examples", "garments", "tube-skirt.toml")) as f:
+        text = f.read()
+    assert change[0] in text
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace(change[0], change[1], 1))
+    code, out, err = woven("garment", bad, "--spacing", "4", "--out", tmp_path / "out", cwd=tmp_path)
+    assert code == 2, err
+    assert err.startswith(f"woven: error: {bad}: {error}") and err.count("\n") == 1, err
+    assert not (tmp_path / "out").exists()

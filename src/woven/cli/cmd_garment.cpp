@@ -88,7 +88,7 @@ void add_garment_command(CLI::App& app, int& exit_code)
                 "seams, the body (the built-in dress form or an OBJ) and the fabric. Writes garment.glb (the cloth and the body, glTF "
                 "2.0, y-up), garment.png and report.json (last: the hem's nodes, radius per angle, flare and length drop, each "
                 "seam's gaps and forces, naming every file with its SHA-256) to --out. Bad input, a piece that starts inside the "
-                "body or a seam that crosses it: one line, exit 2.");
+                "body, pieces placed on each other or a seam that crosses the body: one line, exit 2.");
     sub->add_option("FILE", o->file, "A garment .toml file")->required();
     sub->add_option("--fabric", o->fabric, "Fabric: a built-in name or a fabric .toml file (overrides the file's)");
     sub->add_option("--spacing", o->spacing_cm, "Thread grid spacing, cm (overrides the file's spacing_cm)")->type_name("CM");
