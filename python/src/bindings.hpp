@@ -129,6 +129,9 @@ public:
 /// once the job has stopped. The job prints nothing (app never does); its warnings come back in
 /// its result or its request's on_warnings, which the caller issues as Python warnings (warn).
 void run_command(const std::function<void(const app::Monitor&)>& f, py::handle progress = py::none());
+/// An app::ProgressEvent as the dict a progress callable gets: a step's and an iteration's with
+/// the keys of woven.drape's progress (every job's the same), an activity's with its label and detail.
+py::dict event_dict(const app::ProgressEvent& e);
 /// Calls `progress(info)` (marked InCallback): false when it returned False or raised; the first
 /// exception other than KeyboardInterrupt is kept in `error`. With the GIL held.
 bool call_progress(py::handle progress, py::dict info, std::optional<py::error_already_set>& error);

@@ -355,10 +355,6 @@ void without_gil(const std::function<void()>& f)
 InCallback::InCallback() { ++t_callback_depth; }
 InCallback::~InCallback() { --t_callback_depth; }
 
-namespace {
-
-/// A app::ProgressEvent as the dict a progress callable gets: a step's and an iteration's with
-/// woven.drape's keys (SolveCallbacks, drape.cpp), an activity's with its label and detail.
 py::dict event_dict(const app::ProgressEvent& e)
 {
     py::dict d;
@@ -388,8 +384,6 @@ py::dict event_dict(const app::ProgressEvent& e)
     d["wall_s"] = e.wall_s;
     return d;
 }
-
-}  // namespace
 
 bool call_progress(py::handle progress, py::dict info, std::optional<py::error_already_set>& error)
 {

@@ -1,5 +1,4 @@
 // woven.drape and woven.DrapeResult: `woven drape` in its stages (app/drape.hpp).
-#include <chrono>
 #include <filesystem>
 
 #include <pybind11/numpy.h>
@@ -108,8 +107,7 @@ std::shared_ptr<app::DrapeSetup> setup_drape(py::object scene, py::object fabric
 class SolveCallbacks {
 public:
     SolveCallbacks(py::object progress, const app::DrapeSetup& setup)
-        : progress_(std::move(progress)), max_steps_(setup.max_steps), tolerance_(setup.scene.solver.residual_tolerance),
-          measure_(setup.max_steps, tolerance_), start_(std::chrono::steady_clock::now())
+        : progress_(std::move(progress)), measure_(setup.max_steps, setup.scene.solver.residual_tolerance)
     {
         if (!progress_.is_none() && !PyCallable_Check(progress_.ptr())) throw py::type_error("progress must be callable or None");
     }
@@ -118,17 +116,7 @@ public:
         return [this](const sim::StepInfo& s) {
             if (interpreter_finalizing()) return false;
             py::gil_scoped_acquire gil;
-            py::dict info;
-            info["event"] = "step";
-            info["step"] = s.step;
-            info["max_steps"] = max_steps_;
-            info["time_s"] = s.time;
-            info["energy_J"] = s.energy;
-            info["residual"] = s.max_residual_rel;
-            info["tolerance"] = tolerance_;
-            info["move_m"] = s.max_move;
-            info["fraction"] = measure_.fraction(s.max_residual_rel);
-            return report(info);
+            return report(measure_.step_event(s));
         };
     }
     sim::IterationCallback on_iteration()
@@ -136,15 +124,7 @@ public:
         return [this](const sim::IterationInfo& i) {
             if (interpreter_finalizing()) return false;
             py::gil_scoped_acquire gil;
-            py::dict info;
-            info["event"] = "iteration";
-            info["step"] = i.step;
-            info["iteration"] = i.iteration;
-            info["total_iterations"] = i.total_iterations;
-            info["time_step_s"] = i.time_step;
-            info["residual"] = i.residual_rel;
-            info["tolerance"] = i.tolerance;
-            return report(info);
+            return report(measure_.iteration_event(i));
         };
     }
     bool interrupted() const { return interrupted_; }
@@ -155,24 +135,20 @@ public:
     }
 
 private:
-    bool report(py::dict info)
+    bool report(const app::ProgressEvent& e)
     {
         if (signal_seen()) {
             interrupted_ = true;
             return false;
         }
         if (progress_.is_none()) return true;
-        info["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-        if (call_progress(progress_, info, error_)) return true;
+        if (call_progress(progress_, event_dict(e), error_)) return true;
         if (!error_) interrupted_ = true;
         return false;
     }
 
     py::object progress_;
-    int max_steps_;
-    double tolerance_;
-    app::Progress measure_;  ///< the progress bar's fraction (not drawn)
-    std::chrono::steady_clock::time_point start_;
+    app::Progress measure_;  ///< the events, with the progress bar's fraction (none sent to a sink)
     bool interrupted_ = false;
     std::optional<py::error_already_set> error_;
 };

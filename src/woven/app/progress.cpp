@@ -149,22 +149,43 @@ double Progress::fraction(double residual)
     return std::clamp(f, 0.0, 1.0);
 }
 
-bool Progress::operator()(const sim::StepInfo& info)
+ProgressEvent Progress::step_event(const sim::StepInfo& info)
 {
     last_fraction_ = fraction(info.max_residual_rel);
+    ProgressEvent e;
+    e.event = "step";
+    e.step = info.step;
+    e.max_steps = max_steps_;
+    e.time_s = info.time;
+    e.energy_J = info.energy;
+    e.residual = info.max_residual_rel;
+    e.tolerance = tolerance_;
+    e.move_m = info.max_move;
+    e.fraction = last_fraction_;
+    e.wall_s = seconds_since(start_);
+    return e;
+}
+
+ProgressEvent Progress::iteration_event(const sim::IterationInfo& info) const
+{
+    ProgressEvent e;
+    e.event = "iteration";
+    e.step = info.step;
+    e.iteration = info.iteration;
+    e.total_iterations = info.total_iterations;
+    e.time_step_s = info.time_step;
+    e.residual = info.residual_rel;
+    e.tolerance = info.tolerance;
+    e.fraction = last_fraction_;
+    e.wall_s = seconds_since(start_);
+    return e;
+}
+
+bool Progress::operator()(const sim::StepInfo& info)
+{
+    const ProgressEvent e = step_event(info);
     if (g_has_sink.load()) {
         reported_ = true;
-        ProgressEvent e;
-        e.event = "step";
-        e.step = info.step;
-        e.max_steps = max_steps_;
-        e.time_s = info.time;
-        e.energy_J = info.energy;
-        e.residual = info.max_residual_rel;
-        e.tolerance = tolerance_;
-        e.move_m = info.max_move;
-        e.fraction = last_fraction_;
-        e.wall_s = seconds_since(start_);
         to_sink(e);
     }
     return !interrupt_requested();
@@ -174,17 +195,7 @@ bool Progress::iteration(const sim::IterationInfo& info)
 {
     if (g_has_sink.load()) {
         reported_ = true;
-        ProgressEvent e;
-        e.event = "iteration";
-        e.step = info.step;
-        e.iteration = info.iteration;
-        e.total_iterations = info.total_iterations;
-        e.time_step_s = info.time_step;
-        e.residual = info.residual_rel;
-        e.tolerance = info.tolerance;
-        e.fraction = last_fraction_;
-        e.wall_s = seconds_since(start_);
-        to_sink(e);
+        to_sink(iteration_event(info));
     }
     return !interrupt_requested();
 }

@@ -122,6 +122,11 @@ public:
     /// "steps-end" (once, if anything was reported).
     void finish();
 
+    /// The "step" and "iteration" events of operator() and iteration(), made without sending
+    /// them (a front end with its own callbacks: the Python module's woven.drape).
+    ProgressEvent step_event(const sim::StepInfo& info);
+    ProgressEvent iteration_event(const sim::IterationInfo& info) const;
+
     /// Fraction of the way from the largest residual seen to the tolerance, in [0, 1].
     double fraction(double residual);
 
