@@ -25,8 +25,8 @@ namespace woven::app {
 namespace {
 
 constexpr double kCm = units::kMToCm;
-constexpr int kHemBins = 72;  ///< 5 degrees each
-constexpr double kOverlap = 0.5;   ///< spacings: two repelling particles closer than this at the start overlap
+constexpr int kHemBins = 72;      ///< 5 degrees each
+constexpr double kOverlap = 0.5;  ///< spacings: two repelling particles closer than this at the start overlap
 
 std::string cm3(const Vec3& p) { return strf("(%.1f, %.1f, %.1f) cm", p.x() * kCm, p.y() * kCm, p.z() * kCm); }
 
@@ -61,13 +61,13 @@ void check_start(const GarmentSetup& s)
         const auto& pieces = s.spec.pattern.pieces;
         const Vec2 pa = c.piece_point[a] * kCm, pb = c.piece_point[b] * kCm;
         const std::string who = c.piece_of[a] == c.piece_of[b]
-                                    ? strf("piece '%s' overlaps itself", pieces[c.piece_of[a]].name.c_str())
-                                    : strf("pieces '%s' and '%s' overlap", pieces[c.piece_of[a]].name.c_str(), pieces[c.piece_of[b]].name.c_str());
+            ? strf("piece '%s' overlaps itself", pieces[c.piece_of[a]].name.c_str())
+            : strf("pieces '%s' and '%s' overlap", pieces[c.piece_of[a]].name.c_str(), pieces[c.piece_of[b]].name.c_str());
         throw InputError(src, strf("piece[%d].place", c.piece_of[b] + 1),
                          strf("%s: their points (%.1f, %.1f) cm and (%.1f, %.1f) cm both go to about %s, "
                               "%.2g cm apart; expected pieces placed apart (at least %.2g of a spacing) unless a seam sews them there",
-                              who.c_str(), pa.x(), pa.y(), pb.x(), pb.y(),
-                              cm3(c.start[a]).c_str(), (c.start[a] - c.start[b]).norm() * kCm, kOverlap));
+                              who.c_str(), pa.x(), pa.y(), pb.x(), pb.y(), cm3(c.start[a]).c_str(), (c.start[a] - c.start[b]).norm() * kCm,
+                              kOverlap));
     }
     for (const model::Stitch& st : c.seams.stitches) {
         const Vec3 a = c.start[st.p], b = (1 - st.w) * c.start[st.q1] + st.w * c.start[st.q2];
