@@ -56,8 +56,8 @@ void check_start(const GarmentSetup& s)
     // Two particles of the cloth that repel each other (of two pieces, or of one piece folded
     // onto itself) may not start on top of each other: the repulsion (Eq. 2) is singular there.
     const double sigma = c.grid.sigma;
-    for (const model::Stencil<2>& pq : s.model->close_pairs(c.start, kOverlap * sigma)) {
-        const int a = pq[0], b = pq[1];
+    if (const std::vector<model::Stencil<2>> close = s.model->close_pairs(c.start, kOverlap * sigma); !close.empty()) {
+        const int a = close.front()[0], b = close.front()[1];
         const auto& pieces = s.spec.pattern.pieces;
         const Vec2 pa = c.piece_point[a] * kCm, pb = c.piece_point[b] * kCm;
         const std::string who = c.piece_of[a] == c.piece_of[b]

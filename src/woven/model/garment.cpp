@@ -202,15 +202,14 @@ GarmentCloth cut_pattern(const Pattern& pattern, double sigma, const std::string
         for (std::size_t m = 0; m < piece.segments.size(); ++m) s[m] = piece.segments[m].project(g.piece_point[p], &d[m]);
         const double nearest = *std::min_element(d.begin(), d.end());
         if (!(nearest < 1.0001 * sigma)) continue;
-        const double tie = nearest < kCornerTie * sigma ? kCornerTie * sigma : 0.0;  // on the outline, at a corner
-        bool placed = false;
-        for (std::size_t m = 0; m < piece.segments.size() && !placed; ++m)
-            if (d[m] <= nearest + tie) {
-                placed = tie == 0.0;  // off the outline: the nearest only (the first of equals)
-                EdgeParticles& e = g.edges[g.piece_of[p]][m];
-                e.particles.push_back(p);
-                e.s.push_back(s[m]);
-            }
+        const bool on_outline = nearest < kCornerTie * sigma;  // at a corner: on every segment as near
+        for (std::size_t m = 0; m < piece.segments.size(); ++m) {
+            if (d[m] > nearest + (on_outline ? kCornerTie * sigma : 0.0)) continue;
+            EdgeParticles& e = g.edges[g.piece_of[p]][m];
+            e.particles.push_back(p);
+            e.s.push_back(s[m]);
+            if (!on_outline) break;  // off the outline: the nearest only (the first of equals)
+        }
     }
     for (auto& piece_edges : g.edges)
         for (EdgeParticles& e : piece_edges) {
